@@ -1,0 +1,79 @@
+"""What every Deform feature shares: its properties, saving, the base it reads, its errors."""
+from typing import Any, NamedTuple
+
+from ..geometry.errors import DeformError
+
+OUTPUT = 1 | 8  # Prop_ReadOnly | Prop_Output: shown greyed out, setting it does not touch the object
+
+RESULT_TYPES = {"Part": "Part::FeaturePython", "Mesh": "Mesh::FeaturePython",
+                "Points": "Points::FeaturePython"}
+
+
+class Prop(NamedTuple):
+    type: str
+    name: str
+    group: str
+    doc: str
+    default: Any = None
+    output: bool = False
+
+
+def base_kind(base):
+    """"Mesh", "Points" or "Part": which kind of data `base` carries (and the result will)."""
+    if base is None:
+        raise DeformError("Base is empty; link a solid, a mesh or a point cloud.", "Base")
+    if base.isDerivedFrom("Mesh::Feature"):
+        return "Mesh"
+    if base.isDerivedFrom("Points::Feature"):
+        return "Points"
+    if hasattr(base, "Shape"):
+        return "Part"
+    raise DeformError(f"Base {base.Label} is not a solid, a mesh or a point cloud; link one.", "Base")
+
+
+class DeformFeature:
+    """Proxy base: properties added when missing (also on restore), JSON-only state.
+
+    Subclasses list PROPERTIES and implement compute(obj, kind) -> (result, outputs):
+    the new Shape, Mesh or Points and a dict of output property values. Bad input raises
+    DeformError naming the property to change; FreeCAD then marks the object in error
+    and keeps its last good result. The Base is only read.
+    """
+
+    TYPE = "Deform"
+    PROPERTIES = ()
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.ensure_properties(obj)
+
+    def ensure_properties(self, obj):
+        existing = set(obj.PropertiesList)
+        for p in self.PROPERTIES:
+            if p.name in existing:
+                continue
+            obj.addProperty(p.type, p.name, p.group, p.doc, OUTPUT if p.output else 0)
+            if p.default is not None:
+                setattr(obj, p.name, p.default)
+
+    def onDocumentRestored(self, obj):
+        self.ensure_properties(obj)
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+
+    __getstate__ = dumps  # FreeCAD 0.20 calls these names
+    __setstate__ = loads
+
+    def execute(self, obj):
+        kind = base_kind(obj.Base)
+        result, outputs = self.compute(obj, kind)
+        setattr(obj, {"Part": "Shape", "Mesh": "Mesh", "Points": "Points"}[kind], result)
+        for name, value in outputs.items():
+            setattr(obj, name, value)
+
+    def compute(self, obj, kind):
+        raise NotImplementedError

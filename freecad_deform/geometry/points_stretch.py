@@ -1,0 +1,64 @@
+"""Stretch of a point cloud: rigid parts moved exactly, the gap filled at the cloud's spacing."""
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .errors import DeformError
+from .planes import parallel_gap, signed_distance, unit_normal
+
+
+def spacing(points, sample=20000, seed=0):
+    """Median nearest-neighbour distance: the cloud's own sampling step."""
+    pts = np.asarray(points, float)
+    if len(pts) < 2:
+        return 0.0
+    rng = np.random.default_rng(seed)
+    probe = pts[rng.choice(len(pts), size=min(sample, len(pts)), replace=False)]
+    dist, _ = cKDTree(pts).query(probe, k=2)
+    return float(np.median(dist[:, 1]))
+
+
+def _check_crossing(s, prop):
+    if not (s.min() < 0.0 < s.max()):
+        raise DeformError(f"{prop} misses the part: every point is on one side of it; "
+                          f"move {prop} so it crosses the part.", prop)
+
+
+def stretch_points(points, origin, normal, distance, origin2=None, normal2=None, step=None):
+    """Stretch a cloud by `distance` along `normal` (see the mesh kernel for the cases).
+
+    One plane, distance > 0: points beyond the plane move by distance*normal and the
+    section (the points within step/2 of the plane) is swept across the gap every `step`
+    (default: the cloud's spacing). distance < 0 removes the slab 0 < s < -distance and
+    moves the far part back. Two planes: the region between is stretched along the normal,
+    cross-sections kept, the part beyond Plane2 moved rigidly.
+    """
+    pts = np.asarray(points, float).reshape(-1, 3)
+    n = unit_normal(normal)
+    s = signed_distance(pts, origin, n)
+    _check_crossing(s, "Plane")
+    if distance == 0:
+        return pts.copy()
+    if origin2 is not None:
+        gap = parallel_gap(origin, n, origin2, normal2 if normal2 is not None else n)
+        _check_crossing(s - gap, "Plane2")
+        if gap + distance <= 0:
+            raise DeformError(f"Distance {distance:g} would collapse the region between the planes "
+                              f"(gap {gap:g}); keep Distance above {-gap:g}.", "Distance")
+        shift = np.clip(s / gap, 0.0, 1.0) * distance
+        return pts + shift[:, None] * n
+    if distance < 0:
+        if s.max() <= -distance:
+            raise DeformError(f"Distance {distance:g} shrinks past the end of the part; the part "
+                              f"reaches {s.max():g} beyond Plane, so reduce Distance.", "Distance")
+        keep = (s <= 0) | (s >= -distance)
+        out = pts[keep].copy()
+        out[s[keep] > 0] += distance * n
+        return out
+    out = pts.copy()
+    out[s > 0] += distance * n
+    step = step or spacing(pts)
+    section = pts[np.abs(s) <= step / 2] - s[np.abs(s) <= step / 2, None] * n
+    layers = max(int(np.ceil(distance / step)), 1)
+    offsets = np.arange(1, layers) * (distance / layers)
+    fill = (section[None, :, :] + offsets[:, None, None] * n).reshape(-1, 3)
+    return np.vstack([out, fill])
