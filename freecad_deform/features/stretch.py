@@ -81,8 +81,26 @@ def stretch_shape(shape, origin, normal, distance, gap=None):
         raise DeformError(f"Distance {distance:g} would collapse the region between the planes "
                           f"(gap {gap:g}); keep Distance above {-gap:g}.", "Distance")
     out = [_stretch_solid(s, origin, normal, distance, gap) for s in solids]
-    out = [s for s in out if s is not None]
+    out = [s for s in out if s is not None] + _stretch_loose(
+        brep.loose_parts(shape), origin, normal, distance, gap)
     return out[0] if len(out) == 1 else Part.makeCompound(out)
+
+
+def _stretch_loose(parts, origin, normal, distance, gap):
+    """Wireframes and free faces: the same split and motion, cut points swept across the gap."""
+    move = distance * normal
+    if not parts or distance == 0:
+        return [p.copy() for p in parts]
+    if gap is not None:
+        near, between, far = brep.split_loose(parts, origin, normal, [0.0, gap])
+        between = brep.affine_stretched(between, origin, normal, (gap + distance) / gap)
+        return near + between + brep.translated(far, move)
+    if distance > 0:
+        near, far = brep.split_loose(parts, origin, normal, [0.0])
+        fill = brep.swept_points(brep.points_on_plane(near, origin, normal), move)
+        return near + fill + brep.translated(far, move)
+    near, _, far = brep.split_loose(parts, origin, normal, [0.0, -distance])
+    return near + brep.translated(far, move)
 
 
 def _stretch_solid(solid, origin, normal, distance, gap):
@@ -96,21 +114,23 @@ def _stretch_solid(solid, origin, normal, distance, gap):
             middle = brep.extruded(cut, (gap + distance) * normal)
         else:
             middle = brep.affine_stretched(between, origin, normal, (gap + distance) / gap)
-        return _joined(near + middle + brep.translated(far, move))
+        return _joined(near + middle + brep.translated(far, move), origin, normal,
+                       [0.0, gap + distance])
     if distance > 0:
         near, far = brep.split_zones(solid, origin, normal, [0.0])
         cut = brep.faces_on_plane(near, origin, normal)
-        return _joined(near + brep.extruded(cut, move) + brep.translated(far, move))
+        return _joined(near + brep.extruded(cut, move) + brep.translated(far, move), origin,
+                       normal, [0.0, distance])
     near, slab, far = brep.split_zones(solid, origin, normal, [0.0, -distance])
     if near and slab and not far:
         reach = max(brep.extent(s, origin, normal)[1] for s in slab)
         raise DeformError(f"Distance {distance:g} shrinks past the end of the part, which reaches "
                           f"{reach:g} beyond Plane; keep Distance above {-reach:g}.", "Distance")
-    return _joined(near + brep.translated(far, move))
+    return _joined(near + brep.translated(far, move), origin, normal, [0.0])
 
 
-def _joined(pieces):
-    return brep.join(pieces) if pieces else None
+def _joined(pieces, origin, normal, joints):
+    return brep.join(pieces, origin, normal, joints) if pieces else None
 
 
 def _joints(shape, origin, normal, gap):

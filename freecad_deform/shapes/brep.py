@@ -19,6 +19,57 @@ def solids_of(shape, prop="Base"):
     return solids
 
 
+def loose_parts(shape):
+    """Top-level shells, faces, wires, edges and vertices of `shape` outside its solids.
+
+    Imported STEP files often carry such wireframes; they follow the deformation
+    instead of being dropped.
+    """
+    if shape.ShapeType in ("Solid", "CompSolid"):
+        return []
+    if shape.ShapeType == "Compound":
+        return [p for child in shape.childShapes() for p in loose_parts(child)]
+    return [shape]
+
+
+def split_loose(parts, origin, normal, offsets):
+    """Like split_zones, for loose parts: their pieces (edges, faces, vertices) per zone."""
+    from BOPTools import SplitAPI  # FreeCAD's Part workbench: keeps only the pieces of `parts`
+    zones = [[] for _ in range(len(offsets) + 1)]
+    if not parts:
+        return zones
+    compound = Part.makeCompound(parts)
+    tools = [plane_face(compound, origin + off * normal, normal) for off in offsets]
+    for piece in _leaves(SplitAPI.slice(compound, tools, "Split")):
+        point = piece.Point if piece.ShapeType == "Vertex" else piece.CenterOfMass
+        s = float(np.dot(np.array(tuple(point)) - origin, normal))
+        zones[int(np.searchsorted(offsets, s))].append(piece)
+    return zones
+
+
+def _leaves(shape):
+    if shape.ShapeType == "Compound":
+        return [leaf for child in shape.childShapes() for leaf in _leaves(child)]
+    return [shape]
+
+
+def points_on_plane(shapes, origin, normal):
+    """Vertices of `shapes` lying in the plane, each once."""
+    found = []
+    for shape in shapes:
+        for v in shape.Vertexes:
+            p = np.array(tuple(v.Point))
+            if abs(np.dot(p - origin, normal)) < TOL and all(
+                    np.linalg.norm(p - q) > TOL for q in found):
+                found.append(p)
+    return found
+
+
+def swept_points(points, vec):
+    """Straight edges swept by `points` along `vec`: the gap of a cut wireframe."""
+    return [Part.makeLine(vector(p), vector(p + vec)) for p in points]
+
+
 def extent(shape, origin, normal):
     """(min, max) signed distance of the shape's bounding-box corners to the plane."""
     bb = shape.BoundBox
@@ -102,12 +153,25 @@ def is_prismatic(solids, origin, normal, gap, samples=5):
     return True
 
 
-def join(solids, prop="Distance"):
-    """Fuse the pieces and merge the faces the split cut (no seams left): one valid solid."""
-    if len(solids) == 1:
-        result = solids[0]
-    else:
-        result = solids[0].fuse(solids[1:]).removeSplitter()
+def join(solids, origin, normal, joints, prop="Distance"):
+    """Fuse the pieces into one valid solid, merging faces only across the joint planes.
+
+    `joints` are the offsets along `normal` of the planes where pieces meet; faces the
+    split cut there are merged again (no seams), while every edge and vertex elsewhere,
+    including the Base's own, is kept.
+    """
+    from Part import ShapeUpgrade
+    fused = solids[0] if len(solids) == 1 else solids[0].fuse(solids[1:])
+
+    def on_joint(sub):
+        s = [(np.array(tuple(v.Point)) - origin) @ normal for v in sub.Vertexes]
+        return any(all(abs(x - j) < TOL for x in s) for j in joints)
+
+    unify = ShapeUpgrade.UnifySameDomain(fused, True, True, False)
+    unify.keepShapes([e for e in fused.Edges if not on_joint(e)]
+                     + [v for v in fused.Vertexes if not on_joint(v)])
+    unify.build()
+    result = unify.shape()
     if not result.isValid() or len(result.Solids) != 1:
         raise DeformError(f"The pieces did not join into one valid solid; change {prop}.", prop)
     return result.Solids[0]
