@@ -137,19 +137,22 @@ def affine_stretched(solids, origin, normal, factor):
 
 
 def is_prismatic(solids, origin, normal, gap, samples=5):
-    """True if every face of `solids` off the two planes has its normal perpendicular to `normal`."""
-    for solid in solids:
-        for face in solid.Faces:
-            u0, u1, v0, v1 = face.ParameterRange
-            for a in np.linspace(0.1, 0.9, samples):
-                for b in np.linspace(0.1, 0.9, samples):
-                    uv = (u0 + a * (u1 - u0), v0 + b * (v1 - v0))
-                    p = np.array(tuple(face.valueAt(*uv)))
-                    s = float(np.dot(p - origin, normal))
-                    if abs(s) < TOL or abs(s - gap) < TOL:
-                        break
-                    if abs(np.dot(np.array(tuple(face.normalAt(*uv))), normal)) > 1e-9:
-                        return False
+    """True if every face of `solids` but the caps in the two planes is parallel to `normal`.
+
+    The region between the planes then has one constant cross-section.
+    """
+    caps = (faces_on_plane(solids, origin, normal)
+            + faces_on_plane(solids, origin + gap * normal, normal))
+    grid = np.linspace(0.1, 0.9, samples)
+    for face in (f for s in solids for f in s.Faces):
+        if any(face.isSame(c) for c in caps):
+            continue
+        u0, u1, v0, v1 = face.ParameterRange
+        for a in grid:
+            for b in grid:
+                n = face.normalAt(u0 + a * (u1 - u0), v0 + b * (v1 - v0))
+                if abs(np.dot(np.array(tuple(n)), normal)) > 1e-9:
+                    return False
     return True
 
 

@@ -319,3 +319,57 @@ class StretchPoints(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class StretchSections(unittest.TestCase):
+    """Sections with holes and in separate pieces, on parts built here."""
+
+    def setUp(self):
+        self.doc = fc.new_document()
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def stretch(self, shape, origin, normal, distance, **kw):
+        base = self.doc.addObject("Part::Feature", "Base")
+        base.Shape = shape
+        obj = fd.make_stretch(base, (V(*origin), V(*normal)), distance, **kw)
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        self.assertTrue(obj.Shape.isValid())
+        self.assertEqual(len(obj.Shape.Solids), 1)
+        return obj
+
+    def test_section_in_two_pieces(self):
+        fork = Part.makeBox(100, 60, 20).cut(Part.makeBox(70, 20, 20, V(30, 20, 0)))  # a U
+        obj = self.stretch(fork, (60, 0, 0), (1, 0, 0), 35)
+        wires = fork.slice(V(1, 0, 0), 60.0)
+        self.assertEqual(len(wires), 2)
+        self.assertAlmostEqual(obj.VolumeChange, 2 * 20 * 20 * 35, delta=1e-6)
+        self.assertEqual(len(obj.Shape.Faces), len(fork.Faces))  # no seams left at the joints
+
+    def test_section_with_holes(self):
+        plate = Part.makeBox(120, 80, 10)
+        for x in (30, 60, 90):
+            plate = plate.cut(Part.makeCylinder(6, 10, V(x, 40, 0)))
+        obj = self.stretch(plate, (0, 40, 0), (0, 1, 0), 15)  # through the three holes
+        area = 120 * 10 - 3 * 12 * 10
+        self.assertAlmostEqual(obj.VolumeChange / (area * 15), 1.0, delta=1e-9)
+        self.assertEqual({type(f.Surface).__name__ for f in obj.Shape.Faces}, {"Plane", "Cylinder"})
+        # each hole is now a stadium: two half cylinders and two planar walls of length 15
+        walls = [f for f in obj.Shape.Faces if isinstance(f.Surface, Part.Plane)
+                 and abs(f.Area - 15 * 10) < 1e-6]
+        self.assertEqual(len(walls), 6)
+
+    def test_two_planes_around_a_taper(self):
+        shaft = Part.makeCylinder(10, 30).fuse(
+            Part.makeCone(10, 5, 20, V(0, 0, 30))).fuse(Part.makeCylinder(5, 30, V(0, 0, 50)))
+        obj = self.stretch(shaft, (0, 0, 30), (0, 0, 1), 10, plane2=(V(0, 0, 50), V(0, 0, 1)))
+        self.assertAlmostEqual(obj.Shape.BoundBox.ZMax, 90.0, delta=1e-7)
+        # the taper is scaled 1.5x along z: the section at 30 + 1.5 t has the radius at 30 + t.
+        # (Its faces are B-splines, whose OCCT Volume is only good to ~1e-2; sections are exact.)
+        for t in (2.0, 10.0, 17.5):
+            radius = 10 - 5 * t / 20
+            area = section_area(obj.Shape, (0, 0, 30 + 1.5 * t), (0, 0, 1))
+            self.assertAlmostEqual(area / (np.pi * radius ** 2), 1.0, delta=1e-4)
+        self.assertAlmostEqual(section_area(obj.Shape, (0, 0, 70), (0, 0, 1)), np.pi * 25, delta=1e-9)
+        self.assertEqual((obj.Continuity, obj.SplitFaces), ("", []))  # the planes cut no face
