@@ -21,7 +21,7 @@ def _create(proxy_class, base, name):
 
 def _transaction(doc, title, build):
     """Run `build()` inside one undo step (or inside the caller's, if one is open)."""
-    own = not doc.HasPendingTransaction
+    own = not (doc.HasPendingTransaction or App.getActiveTransaction())
     if own:
         doc.openTransaction(title)
     try:

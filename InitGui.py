@@ -1,0 +1,37 @@
+# Deform workbench: GUI entry point.
+#
+# FreeCAD exec()s this file while it starts, without __file__ (0.20) and with the
+# top-level names of this file invisible inside the class (they land in exec's locals).
+# So everything the class needs is imported inside it, and the heavy imports wait for
+# Initialize(), which runs when the workbench is first activated. The repository root
+# is on sys.path (FreeCAD adds each Mod/<dir>), so freecad_deform imports; its gui
+# package __init__ is only os.path work.
+
+
+class DeformWorkbench(Workbench):  # noqa: F821  (Workbench comes from FreeCAD's start-up)
+    """Stretch, bend and twist existing solids, meshes and point clouds without history."""
+
+    from freecad_deform.gui import icon_path as _icon_path
+
+    MenuText = "Deform"
+    ToolTip = ("Edit existing models without their history: stretch a solid, mesh or "
+               "point cloud at a plane, keeping the result parametric")
+    Icon = _icon_path("Deform")
+    del _icon_path
+
+    def Initialize(self):
+        from freecad_deform.gui import commands
+        self.appendToolbar("Deform", list(commands.TOOLBAR))
+        self.appendMenu("Deform", list(commands.TOOLBAR))
+
+    def Activated(self):
+        pass
+
+    def Deactivated(self):
+        pass
+
+    def GetClassName(self):
+        return "Gui::PythonWorkbench"
+
+
+FreeCADGui.addWorkbench(DeformWorkbench())  # noqa: F821

@@ -1,0 +1,102 @@
+"""The workbench's commands. CommandBase is the pattern every feature's command copies.
+
+A command is enabled only when the selection fits (selection.read), creates the feature
+through the macro API inside one transaction, and opens the feature's task panel, which
+commits that transaction on OK and aborts it on Cancel.
+"""
+import FreeCAD as App
+import FreeCADGui as Gui
+
+from . import icon_path, selection
+from .task_panel import panel_class
+
+
+class CommandBase:
+    """Subclass and set NAME, TYPE, MENU_TEXT, TOOL_TIP; implement create(base, plane)."""
+
+    NAME = ""          # FreeCAD command name, "Deform_<TYPE>"
+    TYPE = ""          # the proxy's TYPE: icon resources/icons/<TYPE>.svg, panel <TYPE>Panel
+    MENU_TEXT = ""
+    TOOL_TIP = ""
+
+    def GetResources(self):
+        return {"Pixmap": icon_path(self.TYPE), "MenuText": self.MENU_TEXT,
+                "ToolTip": self.TOOL_TIP}
+
+    def IsActive(self):
+        if Gui.ActiveDocument is None or Gui.Control.activeDialog():
+            return False
+        return self.read_selection() is not None
+
+    def read_selection(self):
+        """What create() needs from the selection, or None when it does not fit."""
+        return selection.read(Gui.Selection.getSelectionEx())
+
+    def create(self, base, picked_plane):
+        """Make the feature object (through freecad_deform.api) and return it."""
+        raise NotImplementedError
+
+    def Activated(self):
+        fits = self.read_selection()
+        if fits is None:
+            App.Console.PrintError(f"{self.MENU_TEXT}: {self.TOOL_TIP}\n")
+            return
+        base, picked = fits
+        doc = base.Document
+        visible = {base.Name: bool(base.ViewObject.Visibility)} if base.ViewObject else {}
+        # Persistent, so the transaction outlives this command invocation: the task panel
+        # commits it on OK (one undo step) or aborts it on Cancel.
+        transaction = App.setActiveTransaction(self.TYPE, True) or None
+        try:
+            self._hide(base)
+            obj = self.create(base, picked)
+        except Exception as e:
+            if transaction:
+                App.closeActiveTransaction(True, transaction)
+            App.Console.PrintError(f"{self.MENU_TEXT}: {e}\n")
+            return
+        Gui.Selection.clearSelection()
+        panel = panel_class(obj)(obj, transaction=transaction, created=True,
+                                 restore_visibility=visible)
+        Gui.Control.showDialog(panel)
+
+    @staticmethod
+    def _hide(base):
+        """Hide the Base as a recorded change. That also opens the document's transaction
+        now (FreeCAD opens it on the first change), so make_* joins it instead of
+        committing one of its own, and Undo / Cancel show the Base again."""
+        vobj = base.ViewObject
+        if vobj is None:
+            return
+        if not vobj.Visibility:
+            vobj.Visibility = True  # no redraw happens in between: nothing flickers
+        vobj.Visibility = False
+
+
+class StretchCommand(CommandBase):
+    NAME = "Deform_Stretch"
+    TYPE = "Stretch"
+    MENU_TEXT = "Stretch"
+    TOOL_TIP = ("Stretch a solid, mesh or point cloud at a plane: the part beyond the plane "
+                "moves by Distance, the gap is filled with the swept cross-section.\n"
+                "Select one solid, mesh or point cloud, optionally with a planar face or a "
+                "datum plane that gives the plane.")
+
+    def create(self, base, picked_plane):
+        from ..api import make_stretch
+        return make_stretch(base, selection.suggested_plane(base, picked_plane), 0.0)
+
+
+COMMANDS = [StretchCommand]
+TOOLBAR = [c.NAME for c in COMMANDS]
+
+
+def register():
+    """Add every command to FreeCAD once (Initialize may run again after a reload)."""
+    known = set(Gui.listCommands())
+    for cls in COMMANDS:
+        if cls.NAME not in known:
+            Gui.addCommand(cls.NAME, cls())
+
+
+register()

@@ -1,0 +1,242 @@
+"""TaskPanelBase: the live-preview task panel every Deform feature's panel derives from.
+
+Life of a panel:
+- Creating (a command): the command opened a persistent transaction, hid the Base and
+  created the object in it; the panel gets that transaction's id. OK commits it (one
+  undo step), Cancel aborts it: the object disappears and the Base shows again.
+- Editing (double-click, setEdit): the panel remembers the editable properties (and their
+  expressions) and opens its own transaction "Edit <TYPE>". OK commits it, Cancel puts the
+  old values back and aborts it.
+Every change in a field sets the property at once and recomputes shortly after (a short
+timer merges fast typing into one recompute), so the user sees the result while editing.
+Errors go to a red label in the panel, never to a dialog.
+"""
+import importlib
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+
+from . import icon_path
+from .view_providers import feature_type
+
+ERROR_STYLE = "QLabel { color: #c00000; font-weight: bold; }"
+
+
+def panel_class(obj):
+    """The task panel class of `obj`: <TYPE>Panel in freecad_deform.gui.<type>_panel."""
+    kind = feature_type(obj)
+    try:
+        module = importlib.import_module(f"{__package__}.{kind.lower()}_panel")
+    except ImportError:
+        return None
+    return getattr(module, kind + "Panel", None)
+
+
+def quantity_spin_box(unit="mm", minimum=-1e9, maximum=1e9, name=None):
+    """A Gui::QuantitySpinBox (units, expressions, the f(x) icon) from FreeCAD's UiLoader."""
+    box = Gui.UiLoader().createWidget("Gui::QuantitySpinBox")
+    box.setProperty("unit", unit)
+    box.setProperty("minimum", minimum)
+    box.setProperty("maximum", maximum)
+    if name:
+        box.setObjectName(name)
+    return box
+
+
+def on_value_changed(box, slot):
+    """Connect a QuantitySpinBox's valueChanged. The widget comes wrapped as its nearest
+    Qt class (QAbstractSpinBox), so the signal is looked up dynamically; the string form
+    is the fallback for bindings that do not do that."""
+    try:
+        box.valueChanged.connect(slot)
+    except AttributeError:
+        QtCore.QObject.connect(box, QtCore.SIGNAL("valueChanged(double)"), slot)
+
+
+def spin_value(box):
+    """The value of a QuantitySpinBox in its unit's internal scale (mm, deg...)."""
+    return float(box.property("rawValue"))
+
+
+def set_spin_value(box, value):
+    box.setProperty("rawValue", float(value))
+
+
+def is_invalid(obj):
+    state = obj.State
+    return "Invalid" in state or "Error" in state
+
+
+class TaskPanelBase:
+    """Subclasses set TYPE (and TITLE) and EDITABLE, and implement build(layout) and
+    load(); their field handlers call set_property(), which sets and previews."""
+
+    TYPE = "Deform"
+    TITLE = None              # defaults to TYPE
+    EDITABLE = ()             # properties Cancel restores when editing an existing object
+    PREVIEW_DELAY_MS = 150
+
+    def __init__(self, obj, transaction=None, created=False, restore_visibility=None):
+        self.obj = obj
+        self.doc = obj.Document
+        self.created = created
+        self.restore_visibility = dict(restore_visibility or {})
+        self.closed = False
+        self._loading = False
+        if created:
+            self.transaction = transaction
+            self.saved = None
+        else:
+            self.saved = self._snapshot()
+            # Persistent: the transaction outlives the double-click / command that opened us.
+            self.transaction = App.setActiveTransaction(f"Edit {self.TYPE}", True) or None
+
+        self._timer = QtCore.QTimer()
+        self._timer.setSingleShot(True)
+        self._timer.setInterval(self.PREVIEW_DELAY_MS)
+        self._timer.timeout.connect(self.recompute)
+
+        self.form = QtGui.QWidget()
+        self.form.setObjectName(f"Deform{self.TYPE}Panel")
+        self.form.setWindowTitle(self.TITLE or self.TYPE)
+        self.form.setWindowIcon(QtGui.QIcon(icon_path(self.TYPE)))
+        layout = QtGui.QVBoxLayout(self.form)
+        self.build(layout)
+        self.error_label = QtGui.QLabel()
+        self.error_label.setObjectName("ErrorLabel")
+        self.error_label.setStyleSheet(ERROR_STYLE)
+        self.error_label.setWordWrap(True)
+        self.error_label.hide()
+        layout.addWidget(self.error_label)
+        layout.addStretch(1)
+        self.reload()
+        self.update_status()
+
+    # --- for subclasses ---------------------------------------------------------------------
+    def build(self, layout):
+        """Add the fields to `layout` (a QVBoxLayout)."""
+
+    def load(self):
+        """Show the object's property values in the fields (signals are ignored meanwhile)."""
+
+    def show_results(self):
+        """Show the output properties after a successful recompute."""
+
+    def clear_results(self):
+        """Blank the output fields while the object is in error (they would be stale)."""
+
+    # --- live preview -----------------------------------------------------------------------
+    def reload(self):
+        self._loading = True
+        try:
+            self.load()
+        finally:
+            self._loading = False
+
+    def set_property(self, name, value):
+        """Set obj.<name> from a field and schedule the preview; errors go to the panel."""
+        if self._loading or self.closed:
+            return
+        try:
+            setattr(self.obj, name, value)
+        except Exception as e:
+            self.show_error(str(e))
+            return
+        self.schedule_recompute()
+
+    def schedule_recompute(self):
+        if not self._loading and not self.closed:
+            self._timer.start()
+
+    def recompute(self):
+        """Recompute now and show the outcome."""
+        self._timer.stop()
+        if self.closed:
+            return
+        try:
+            self.doc.recompute()
+        except Exception as e:  # recompute reports feature errors in the object, not here
+            self.show_error(str(e))
+            return
+        self.update_status()
+
+    def flush(self):
+        """Run a pending preview now (before OK, or when a caller needs the result)."""
+        if self._timer.isActive() or "Touched" in self.obj.State:
+            self.recompute()
+
+    def update_status(self):
+        if is_invalid(self.obj):
+            self.show_error(self.obj.getStatusString())
+            self.clear_results()
+        else:
+            self.show_error(None)
+            self.show_results()
+
+    def show_error(self, message):
+        if message:
+            self.error_label.setText(message)
+            self.error_label.show()
+        else:
+            self.error_label.clear()
+            self.error_label.hide()
+
+    # --- OK / Cancel --------------------------------------------------------------------------
+    def accept(self):
+        self.flush()
+        if is_invalid(self.obj):
+            self.show_error(self.obj.getStatusString() + "\nFix it, or press Cancel.")
+            return False
+        if self.transaction:
+            App.closeActiveTransaction(False, self.transaction)
+        self._close()
+        return True
+
+    def reject(self):
+        self._timer.stop()
+        if self.created:
+            self._discard_created()
+        else:
+            self._restore_saved()
+        self._close()
+        return True
+
+    def _discard_created(self):
+        name = self.obj.Name
+        if self.transaction:
+            App.closeActiveTransaction(True, self.transaction)
+        if self.doc.getObject(name) is not None:  # no transaction of ours to abort
+            self.doc.removeObject(name)
+        for base_name, visible in self.restore_visibility.items():
+            base = self.doc.getObject(base_name)
+            if base is not None and base.ViewObject is not None:
+                base.ViewObject.Visibility = visible
+        self.doc.recompute()
+
+    def _snapshot(self):
+        values = {name: getattr(self.obj, name) for name in self.EDITABLE}
+        return values, list(self.obj.ExpressionEngine)
+
+    def _restore_saved(self):
+        values, expressions = self.saved
+        for path, _ in list(self.obj.ExpressionEngine):
+            self.obj.setExpression(path, None)
+        for name, value in values.items():
+            try:
+                setattr(self.obj, name, value)
+            except Exception as e:
+                App.Console.PrintWarning(f"Could not restore {name}: {e}\n")
+        for path, expression in expressions:
+            self.obj.setExpression(path, expression)
+        if self.transaction:
+            App.closeActiveTransaction(True, self.transaction)
+        self.obj.touch()
+        self.doc.recompute()
+
+    def _close(self):
+        self.closed = True
+        Gui.Control.closeDialog()
+        gdoc = Gui.getDocument(self.doc.Name)
+        if gdoc is not None and gdoc.getInEdit() is not None:
+            gdoc.resetEdit()

@@ -1,0 +1,124 @@
+"""The Deform workbench in the real FreeCAD GUI, under Xvfb.
+
+FreeCAD runs with a temporary HOME whose user Mod directory (asked from FreeCAD itself)
+links to this repository, so the workbench is found the way a user installs it. The
+scenario (freecad_scenario.py) runs inside the GUI and writes a JSON report; this file
+asserts on it. Screenshots and the saved document go to tests/gui/_out/.
+
+Run: /usr/bin/python3 -m pytest tests/gui -q
+Missing FreeCAD or xvfb-run is a failure, not a skip.
+"""
+import json
+import os
+import shutil
+import subprocess
+import time
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+TESTDATA = os.path.normpath(os.path.join(REPO, "..", "shared", "testdata"))
+OUT = os.path.join(HERE, "_out")
+SCENARIO = os.path.join(HERE, "freecad_scenario.py")
+TIMEOUT = 180  # seconds for the whole GUI run; it takes about 20 s
+
+
+def _tool(*names):
+    for name in names:
+        path = shutil.which(name)
+        if path:
+            return path
+    pytest.fail(f"{' or '.join(names)} not found: the GUI tests need it installed")
+
+
+def _env(home):
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("XDG_", "FREECAD_"))}
+    env.update(HOME=str(home), QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox",
+               LANG="C.UTF-8", LC_ALL="C.UTF-8")
+    env.pop("PYTHONPATH", None)
+    env.pop("DISPLAY", None)
+    return env
+
+
+def _user_mod_dir(home):
+    """The user Mod directory FreeCAD scans for this HOME (asked from FreeCAD itself)."""
+    cmd = _tool("freecadcmd", "FreeCADCmd")
+    probe = home / "probe_user_dir.py"
+    answer = home / "user_dir.txt"
+    probe.write_text("import FreeCAD\n"
+                     f"open({str(answer)!r}, 'w').write(FreeCAD.getUserAppDataDir())\n")
+    subprocess.run([cmd, str(probe)], env=_env(home), capture_output=True, timeout=60)
+    if not answer.exists():
+        pytest.fail("freecadcmd did not report its user data directory")
+    return os.path.join(answer.read_text().strip(), "Mod")
+
+
+@pytest.fixture(scope="module")
+def gui_run(tmp_path_factory):
+    freecad = _tool("freecad", "FreeCAD")
+    xvfb = _tool("xvfb-run")
+    assert os.path.isfile(os.path.join(TESTDATA, "face_recognition_sample_part.stp")), TESTDATA
+
+    home = tmp_path_factory.mktemp("home")
+    mod_dir = _user_mod_dir(home)
+    assert mod_dir.startswith(str(home)), mod_dir
+    os.makedirs(mod_dir, exist_ok=True)
+    os.symlink(REPO, os.path.join(mod_dir, "Deform"))
+
+    os.makedirs(OUT, exist_ok=True)
+    result_path = os.path.join(OUT, "gui_result.json")
+    if os.path.exists(result_path):
+        os.remove(result_path)
+    env = _env(home)
+    env.update(DEFORM_GUI_RESULT=result_path, DEFORM_GUI_OUT=OUT, DEFORM_TESTDATA=TESTDATA,
+               DEFORM_REPO=REPO)
+    cmd = [xvfb, "-a", "-s", "-screen 0 1280x1024x24", freecad, SCENARIO]
+    start = time.time()
+    try:
+        proc = subprocess.run(cmd, env=env, cwd=str(home), capture_output=True, text=True,
+                              timeout=TIMEOUT)
+    except subprocess.TimeoutExpired as e:
+        pytest.fail(f"FreeCAD GUI did not finish in {TIMEOUT} s\n{e.stdout}\n{e.stderr}")
+    elapsed = time.time() - start
+    log = f"exit {proc.returncode} after {elapsed:.1f} s\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}"
+    if not os.path.exists(result_path):
+        pytest.fail("the GUI scenario wrote no result\n" + log)
+    with open(result_path) as f:
+        result = json.load(f)
+    result["log"] = log
+    result["elapsed"] = elapsed
+    return result
+
+
+def test_scenario_finished(gui_run):
+    assert gui_run["error"] is None, gui_run["error"] + "\n" + gui_run["log"]
+
+
+def test_all_checks_pass(gui_run):
+    failed = [c for c in gui_run["checks"] if not c["ok"]]
+    assert gui_run["checks"], "no checks ran\n" + gui_run["log"]
+    assert not failed, "\n".join(f"{c['name']}: {c['detail']}" for c in failed)
+
+
+@pytest.mark.parametrize("name", [
+    "workbench active", "active with the solid selected", "inactive with nothing selected",
+    "one Stretch after OK", "valid single solid", "VolumeChange > 0", "one undo step",
+    "undo removes the Stretch", "cancel: no new object", "cancel: Base visible",
+    "edit cancel restores Distance", "reopen: view provider restored", "reopen: icon",
+])
+def test_key_check(gui_run, name):
+    found = [c for c in gui_run["checks"] if c["name"] == name]
+    assert found, f"check {name!r} did not run (scenario stopped early?)\n{gui_run['error']}"
+    assert found[0]["ok"], found[0]["detail"]
+
+
+def test_screenshots_written(gui_run, capsys):
+    shots = gui_run["screenshots"]
+    with capsys.disabled():  # shown also in a quiet run: look at them
+        print(f"\nGUI run {gui_run['elapsed']:.1f} s; screenshots:")
+        for path in shots:
+            print(f"  {path}")
+    assert len(shots) == 6, shots
+    for path in shots:
+        assert os.path.getsize(path) > 10000, path
