@@ -156,19 +156,19 @@ def is_prismatic(solids, origin, normal, gap, samples=5):
     return True
 
 
-def join(solids, origin, normal, joints, prop="Distance"):
+def join(solids, joints, prop="Distance"):
     """Fuse the pieces into one valid solid, merging faces only across the joint planes.
 
-    `joints` are the offsets along `normal` of the planes where pieces meet; faces the
-    split cut there are merged again (no seams), while every edge and vertex elsewhere,
-    including the Base's own, is kept.
+    `joints` are the (origin, normal) planes where pieces meet; faces the split cut there
+    are merged again (no seams), while every edge and vertex elsewhere, including the
+    Base's own, is kept.
     """
     from Part import ShapeUpgrade
     fused = solids[0] if len(solids) == 1 else solids[0].fuse(solids[1:])
 
     def on_joint(sub):
-        s = [(np.array(tuple(v.Point)) - origin) @ normal for v in sub.Vertexes]
-        return any(all(abs(x - j) < TOL for x in s) for j in joints)
+        pts = np.array([tuple(v.Point) for v in sub.Vertexes])
+        return any(np.all(np.abs((pts - o) @ n) < TOL) for o, n in joints)
 
     unify = ShapeUpgrade.UnifySameDomain(fused, True, True, False)
     unify.keepShapes([e for e in fused.Edges if not on_joint(e)]
@@ -178,6 +178,38 @@ def join(solids, origin, normal, joints, prop="Distance"):
     if not result.isValid() or len(result.Solids) != 1:
         raise DeformError(f"The pieces did not join into one valid solid; change {prop}.", prop)
     return result.Solids[0]
+
+
+def transformed(shapes, matrix):
+    """Copies of `shapes` moved by a rigid 4x4 `matrix` (analytic surfaces stay analytic)."""
+    m = App.Matrix(*np.asarray(matrix, float).ravel())
+    return [s.transformed(m) for s in shapes]
+
+
+def revolved(faces, axis_point, axis_direction, angle):
+    """The solids swept by the faces turning by `angle` (radians) about the axis: exact."""
+    return [f.revolve(vector(axis_point), vector(axis_direction), float(np.degrees(angle)))
+            for f in faces]
+
+
+def lofted(profiles, prop="Samples"):
+    """One solid through K profiles, each a list of faces with matching wires.
+
+    Every wire is lofted through its K copies; the loft of the outer wires minus those of
+    the holes gives the solid.
+    """
+    solids = []
+    for k in range(len(profiles[0])):
+        faces = [p[k] for p in profiles]
+        outer = Part.makeLoft([f.OuterWire for f in faces], True, False)
+        holes = [Part.makeLoft([f.Wires[i] for f in faces], True, False)
+                 for i in range(len(faces[0].Wires)) if not faces[0].Wires[i].isSame(
+                     faces[0].OuterWire)]
+        solids.append(outer.cut(holes) if holes else outer)
+    for solid in solids:
+        if not solid.isValid():
+            raise DeformError(f"The loft through the profiles is not valid; change {prop}.", prop)
+    return solids
 
 
 def crossing_faces(shape, origin, normal):
