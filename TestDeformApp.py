@@ -19,6 +19,6 @@ def _load(name):
 
 def load_tests(loader, tests, pattern):
     suite = unittest.TestSuite()
-    for name in ("test_stretch",):
+    for name in ("test_stretch", "test_bend_twist"):
         suite.addTests(loader.loadTestsFromModule(_load(name)))
     return suite

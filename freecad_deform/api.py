@@ -1,8 +1,11 @@
-"""Macro API: make_stretch(), ... Each creates one feature in one transaction and recomputes."""
+"""Macro API: make_stretch(), make_bend(), make_twist(). Each creates one feature in one
+transaction and recomputes; the keyword arguments are the object's properties."""
 import FreeCAD as App
 
 from .features.base import RESULT_TYPES, base_kind
+from .features.bend import Bend
 from .features.stretch import Stretch
+from .features.twist import Twist
 from .shapes.convert import plane_placement
 
 
@@ -19,13 +22,17 @@ def _create(proxy_class, base, name):
     return obj
 
 
-def _transaction(doc, title, build):
-    """Run `build()` inside one undo step (or inside the caller's, if one is open)."""
+def _make(proxy_class, base, values):
+    """Create, set `values` (property name -> value), recompute: one undo step (or the
+    caller's, if one is open)."""
+    doc = base.Document
     own = not (doc.HasPendingTransaction or App.getActiveTransaction())
     if own:
-        doc.openTransaction(title)
+        doc.openTransaction(proxy_class.TYPE)
     try:
-        obj = build()
+        obj = _create(proxy_class, base, proxy_class.TYPE)
+        for name, value in values.items():
+            setattr(obj, name, value)
         doc.recompute()
     except Exception:
         if own:
@@ -36,14 +43,27 @@ def _transaction(doc, title, build):
     return obj
 
 
+def _second_plane(plane2):
+    return {} if plane2 is None else {"Plane2": plane_placement(plane2, "Plane2"),
+                                       "UsePlane2": True}
+
+
 def make_stretch(base, plane, distance, plane2=None):
     """Stretch `base` at `plane` by `distance`; with `plane2`, only the region between them."""
-    def build():
-        obj = _create(Stretch, base, "Stretch")
-        obj.Plane = plane_placement(plane)
-        obj.Distance = distance
-        if plane2 is not None:
-            obj.Plane2 = plane_placement(plane2, "Plane2")
-            obj.UsePlane2 = True
-        return obj
-    return _transaction(base.Document, "Stretch", build)
+    return _make(Stretch, base, {"Plane": plane_placement(plane), "Distance": distance,
+                                 **_second_plane(plane2)})
+
+
+def make_bend(base, plane, angle, axis, plane2=None):
+    """Bend `base` at `plane` by `angle` (degrees) about `axis` (point, direction)."""
+    return _make(Bend, base, {"Plane": plane_placement(plane), "Angle": angle,
+                              "Axis": plane_placement(axis, "Axis"), **_second_plane(plane2)})
+
+
+def make_twist(base, plane, plane2, angle, axis=None):
+    """Twist the region of `base` between `plane` and `plane2` by `angle` (degrees)."""
+    values = {"Plane": plane_placement(plane), "Plane2": plane_placement(plane2, "Plane2"),
+              "Angle": angle}
+    if axis is not None:
+        values.update(Axis=plane_placement(axis, "Axis"), UseAxis=True)
+    return _make(Twist, base, values)

@@ -20,6 +20,10 @@ USE_PLANE2 = Prop("App::PropertyBool", "UsePlane2", "Planes",
 PLANE2 = Prop("App::PropertyPlacement", "Plane2", "Planes",
               "Second separating plane, parallel to Plane and beyond it along the normal; used "
               "when UsePlane2 is true.")
+AXIS = Prop("App::PropertyPlacement", "Axis", "Motion",
+            "Axis of rotation: its position is a point on the axis, its local Z the direction "
+            "(right-hand rule for Angle).")
+ANGLE = Prop("App::PropertyAngle", "Angle", "Motion", "How far the far part turns about Axis.")
 SAMPLES = Prop("App::PropertyInteger", "Samples", "Sweep",
                "Number of intermediate profiles where the sweep is not exact (lofts, meshes).",
                16)
@@ -38,7 +42,7 @@ RESULTS = (
 def planes(obj, require_plane2=False):
     """(origin, normal, gap) from the Plane properties; gap is None for one plane."""
     origin, normal = plane_arrays(obj.Plane)
-    if not (obj.UsePlane2 or require_plane2):
+    if not (require_plane2 or obj.UsePlane2):
         return origin, normal, None
     origin2, normal2 = plane_arrays(obj.Plane2)
     return origin, normal, parallel_gap(origin, normal, origin2, normal2)
@@ -71,17 +75,37 @@ def deform_shape(shape, origin, normal, gap, solid_fn, loose_fn):
 def joint_report(shape, joints):
     """Output values for the faces that the planes cut.
 
-    `joints` are (origin, normal, tangents) with tangents(points) the trajectory tangents
-    of the joint points; a face is G1 only if it is G1 at every joint it crosses.
+    `joints` are (origin, normal, tangents[, keep]) with tangents(points) the trajectory
+    tangents of the joint points and keep(points) an optional mask of the points that lie
+    on the joint (a segment of a folded surface); a face is G1 only if it is G1 at every
+    joint it crosses.
     """
     worst = {}
-    for origin, normal, tangents in joints:
+    for origin, normal, tangents, *keep in joints:
         for name, face in brep.crossing_faces(shape, origin, normal):
             points, normals = brep.joint_normals(face, origin, normal)
+            if keep:
+                mask = keep[0](points)
+                points, normals = points[mask], normals[mask]
+            if not len(points):
+                continue
             kind = continuity.joint_continuity(normals, tangents(points))
             worst[name] = "C0" if "C0" in (kind, worst.get(name)) else kind
     entries = sorted(worst.items(), key=lambda item: int(item[0][4:]))
     return {"Continuity": continuity.report(entries), "SplitFaces": [n for n, _ in entries]}
+
+
+def sections(solids, origin, normal, offsets):
+    """The cross-section faces of `solids` at each offset along `normal` (one list each)."""
+    import Part
+    import FreeCAD as App
+    n = App.Vector(*normal)
+    out = []
+    for off in offsets:
+        d = float(np.dot(origin + off * normal, normal))
+        wires = [w for s in solids for w in s.slice(n, d)]
+        out.append(Part.makeFace(wires, "Part::FaceMakerBullseye").Faces if wires else [])
+    return out
 
 
 def volume_change(result, shape):

@@ -1,6 +1,9 @@
 """Stretch (Wu & Ilies, Cases 1 and 2): split at a plane, move the far part, fill the gap."""
+import numpy as np
+
 from ..geometry.errors import DeformError
 from ..geometry.points_stretch import stretch_points
+from ..geometry.polyline import FoldedSurface
 from ..shapes import brep
 from ..shapes.convert import (mesh_arrays, mesh_from_arrays, points_array, points_from_array)
 from . import split_sweep as ss
@@ -14,11 +17,17 @@ class Stretch(DeformFeature):
         Prop("App::PropertyDistance", "Distance", "Stretch",
              "How far the part beyond the plane moves along the normal; negative shrinks."),
         ss.USE_PLANE2, ss.PLANE2,
+        Prop("App::PropertyVectorList", "Polyline", "Planes",
+             "Case 3: corner points of a polyline in a plane that contains the Plane normal; "
+             "the separating surface is the polyline extruded perpendicular to that plane, "
+             "and the part moves along the Plane normal. Empty: the flat Plane."),
     ) + ss.RESULTS
 
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj)
         distance = obj.Distance.Value
+        if len(obj.Polyline) > 0:
+            return self._folded(obj, kind, normal, distance)
         second = () if gap is None else (origin + gap * normal, normal)
         if kind == "Points":
             pts = stretch_points(points_array(obj.Base.Points), origin, normal, distance, *second)
@@ -34,6 +43,62 @@ class Stretch(DeformFeature):
         if gap is not None:
             joints.append((origin + gap * normal, normal, ss.constant(normal)))
         return result, {**ss.volume_change(result, shape), **ss.joint_report(shape, joints)}
+
+
+    def _folded(self, obj, kind, normal, distance):
+        """Case 3 on a solid: split at the folded surface, extrude the folded section."""
+        if kind != "Part" or obj.UsePlane2:
+            raise DeformError("A Polyline separating surface works on solids with one surface; "
+                              "clear Polyline or UsePlane2.", "Polyline")
+        surface = FoldedSurface([tuple(p) for p in obj.Polyline], normal)
+        shape = obj.Base.Shape
+        result = stretch_folded(shape, surface, distance)
+        u = surface.lateral_axis
+        lows = np.r_[-np.inf, surface.lateral[1:-1]]  # the end segments extend outward
+        highs = np.r_[surface.lateral[1:-1], np.inf]
+        joints = [(a, m, ss.constant(normal),
+                   lambda p, lo=lo, hi=hi: ((p @ u) >= lo - 1e-9) & ((p @ u) <= hi + 1e-9))
+                  for (a, m), lo, hi in zip(surface.segment_planes(), lows, highs)]
+        return result, {**ss.volume_change(result, shape), **ss.joint_report(shape, joints)}
+
+
+def stretch_folded(shape, surface, distance):
+    """Case 3: each solid split at the folded surface, the far part moved, the gap extruded."""
+    move = distance * surface.normal
+
+    def joints(pts):  # on the folded surface, or on its moved copy
+        off = surface.offset(pts)
+        return bool(np.all(np.abs(off) < 1e-7) or np.all(np.abs(off - distance) < 1e-7))
+
+    def solid_fn(solid):
+        if distance > 0:
+            near, far = brep.split_by(solid, [brep.folded_sheet(solid, surface)],
+                                      surface.offset, [0.0])
+            cut = brep.faces_on_surface(near, surface)
+            pieces = near + brep.extruded(cut, move) + brep.translated(far, move)
+            return brep.join(pieces, joints)
+        near, slab, far = brep.split_by(
+            solid, [brep.folded_sheet(solid, surface), brep.folded_sheet(solid, surface, -distance)],
+            surface.offset, [0.0, -distance])
+        if near and slab and not far:
+            raise DeformError(f"Distance {distance:g} shrinks past the end of the part; reduce "
+                              f"Distance.", "Distance")
+        return brep.join(near + brep.translated(far, move), joints) if near or far else None
+
+    def loose_fn(parts):
+        return [p.translated(brep.vector(move)) if surface.offset(
+            np.array([tuple(p.CenterOfMass if p.ShapeType != "Vertex" else p.Point)]))[0] > 0
+            else p.copy() for p in parts]
+
+    solids = brep.solids_of(shape)
+    offsets = np.concatenate([surface.offset(np.array([tuple(v.Point) for v in s.Vertexes]))
+                              for s in solids])
+    if not (offsets.min() < 0 < offsets.max()):
+        raise DeformError("Polyline misses the part: the whole part lies on one side of it; "
+                          "move its points so the surface crosses the part.", "Polyline")
+    import Part
+    out = [r for r in map(solid_fn, solids) if r is not None] + loose_fn(brep.loose_parts(shape))
+    return out[0] if len(out) == 1 else Part.makeCompound(out)
 
 
 def stretch_shape(shape, origin, normal, distance, gap=None):

@@ -7,10 +7,14 @@ from .planes import parallel_gap, signed_distance, unit_normal
 
 
 def spacing(points, sample=20000, seed=0):
-    """Median nearest-neighbour distance: the cloud's own sampling step."""
-    pts = np.asarray(points, float)
+    """Median distance to the nearest other point: the cloud's own sampling step.
+
+    Repeated points are ignored; a cloud without two distinct points has no step.
+    """
+    pts = np.unique(np.asarray(points, float).reshape(-1, 3), axis=0)
     if len(pts) < 2:
-        return 0.0
+        raise DeformError("The point cloud has fewer than two distinct points; give Base a "
+                          "real cloud.", "Base")
     rng = np.random.default_rng(seed)
     probe = pts[rng.choice(len(pts), size=min(sample, len(pts)), replace=False)]
     dist, _ = cKDTree(pts).query(probe, k=2)

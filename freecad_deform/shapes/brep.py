@@ -5,7 +5,7 @@ import Part
 
 from ..geometry.errors import DeformError
 from ..geometry.planes import frame
-from .convert import vector
+from .convert import vector  # noqa: F401  (re-exported for features)
 
 TOL = 1e-7
 
@@ -95,12 +95,42 @@ def split_zones(solid, origin, normal, offsets):
     plane k-1 and plane k, the last zone beyond the last plane.
     """
     tools = [plane_face(solid, origin + off * normal, normal) for off in offsets]
+    return split_by(solid, tools, lambda p: (p - origin) @ normal, offsets)
+
+
+def split_by(solid, tools, offset, offsets):
+    """Split `solid` with the tool shapes; zone of a piece by `offset(points)` vs `offsets`.
+
+    A piece is classified at its vertices and edge midpoints off the tools: every point of
+    a piece lies in the closure of its zone, so this holds for zones that are not convex.
+    """
     pieces, _ = solid.generalFuse(tools)
     zones = [[] for _ in range(len(offsets) + 1)]
     for piece in pieces.Solids:
-        s = float(np.dot(np.array(tuple(piece.CenterOfMass)) - origin, normal))
-        zones[int(np.searchsorted(offsets, s))].append(piece)
+        pts = np.array([tuple(v.Point) for v in piece.Vertexes]
+                       + [tuple(e.valueAt(0.5 * (e.FirstParameter + e.LastParameter)))
+                          for e in piece.Edges])
+        s = offset(pts)
+        off = np.min(np.abs(s[:, None] - np.asarray(offsets)[None, :]), axis=1) > TOL
+        probe = s[off][0] if off.any() else float(offset(
+            np.array([tuple(piece.CenterOfMass)]))[0])
+        zones[int(np.searchsorted(offsets, probe))].append(piece)
     return zones
+
+
+def folded_sheet(shape, surface, shift=0.0):
+    """The faces of a FoldedSurface (moved `shift` along its normal), wide enough for `shape`."""
+    size = shape.BoundBox.DiagonalLength + 1.0
+    pts = surface.points + shift * surface.normal
+    ends = surface.lateral_axis * size
+    pts = np.vstack([pts[0] - ends, pts[1:-1], pts[-1] + ends]) if len(pts) > 2 else np.vstack(
+        [pts[0] - ends, pts[-1] + ends])
+    centre = np.array(tuple(shape.BoundBox.Center))
+    e = surface.extrusion * (size + abs((centre - pts[0]) @ surface.extrusion))
+    faces = [Part.Face(Part.makePolygon([vector(a - e), vector(b - e), vector(b + e),
+                                         vector(a + e), vector(a - e)]))
+             for a, b in zip(pts[:-1], pts[1:])]
+    return Part.Shell(faces)
 
 
 def faces_on_plane(solids, origin, normal):
@@ -116,6 +146,13 @@ def faces_on_plane(solids, origin, normal):
             if all(abs(np.dot(np.array(tuple(v.Point)) - origin, normal)) < TOL for v in face.Vertexes):
                 found.append(face)
     return found
+
+
+def faces_on_surface(solids, surface):
+    """Faces of `solids` lying on a FoldedSurface (the section faces a Case 3 split made)."""
+    return [face for solid in solids for face in solid.Faces
+            if isinstance(face.Surface, Part.Plane) and np.all(np.abs(surface.offset(
+                np.array([tuple(v.Point) for v in face.Vertexes]))) < TOL)]
 
 
 def translated(solids, vec):
@@ -156,28 +193,57 @@ def is_prismatic(solids, origin, normal, gap, samples=5):
     return True
 
 
-def join(solids, joints, prop="Distance"):
-    """Fuse the pieces into one valid solid, merging faces only across the joint planes.
+def on_planes(planes):
+    """A joint test for `join`: are all these points on one of the (origin, normal) planes?"""
+    return lambda pts: any(np.all(np.abs((pts - o) @ n) < TOL) for o, n in planes)
 
-    `joints` are the (origin, normal) planes where pieces meet; faces the split cut there
-    are merged again (no seams), while every edge and vertex elsewhere, including the
-    Base's own, is kept.
+
+def join(solids, joints, prop="Distance"):
+    """Fuse the pieces into one valid solid, merging faces only across the joints.
+
+    `joints` are (origin, normal) planes, or a test `joints(points) -> bool` saying whether
+    points lie on a joint surface. Faces the split cut there are merged again (no seams),
+    while every edge and vertex elsewhere, including the Base's own, is kept.
     """
     from Part import ShapeUpgrade
     fused = solids[0] if len(solids) == 1 else solids[0].fuse(solids[1:])
+    on_surface = joints if callable(joints) else on_planes(joints)
 
     def on_joint(sub):
-        pts = np.array([tuple(v.Point) for v in sub.Vertexes])
-        return any(np.all(np.abs((pts - o) @ n) < TOL) for o, n in joints)
+        return on_surface(np.array([tuple(v.Point) for v in sub.Vertexes]))
 
     unify = ShapeUpgrade.UnifySameDomain(fused, True, True, False)
     unify.keepShapes([e for e in fused.Edges if not on_joint(e)]
                      + [v for v in fused.Vertexes if not on_joint(v)])
     unify.build()
-    result = unify.shape()
-    if not result.isValid() or len(result.Solids) != 1:
-        raise DeformError(f"The pieces did not join into one valid solid; change {prop}.", prop)
-    return result.Solids[0]
+    # OCCT's face merge can nest wires wrongly on folded joints; then merge all, or none
+    for result in (lambda: unify.shape(), fused.removeSplitter, lambda: fused):
+        shape = result()
+        if len(shape.Solids) == 1 and _valid_at_joints(shape, on_surface):
+            return shape.Solids[0]
+    raise DeformError(f"The pieces did not join into one valid solid; change {prop}.", prop)
+
+
+def _valid_at_joints(shape, on_surface, many_wires=8):
+    """OCCT's check of what the edit made: a closed shell, and the faces that meet a joint.
+
+    The rest of the solid is the Base's own, unchanged. On a face with many holes only
+    the wires that meet a joint are checked: BRepCheck of the whole face grows with the
+    square of its holes and would cost far more than the edit.
+    """
+    joint = [v for v in shape.Vertexes if on_surface(np.array([tuple(v.Point)]))]
+
+    def meets(sub):
+        return any(v.isSame(j) for v in sub.Vertexes for j in joint)
+
+    for face in (f for f in shape.Faces if meets(f)):
+        if len(face.Wires) <= many_wires:
+            ok = face.isValid()
+        else:
+            ok = all(w.isValid() for w in face.Wires if meets(w))
+        if not ok:
+            return False
+    return all(len(s.Shells) == 1 and s.Shells[0].isClosed() for s in shape.Solids)
 
 
 def transformed(shapes, matrix):
@@ -192,12 +258,39 @@ def revolved(faces, axis_point, axis_direction, angle):
             for f in faces]
 
 
+def arc(point, axis_point, axis_direction, angle):
+    """The circular edge a point sweeps turning by `angle` (radians) about the axis."""
+    face_free = Part.Vertex(vector(point))
+    return face_free.revolve(vector(axis_point), vector(axis_direction),
+                             float(np.degrees(angle)))
+
+
+def sample_points(face, per_edge=9):
+    """Points along the boundary of `face` (for checks on the section)."""
+    return np.array([tuple(p) for e in face.Edges for p in e.discretize(per_edge)])
+
+
+def check_apart(near, moved, prop):
+    """The moved part must not overlap the part that stays (an OCCT boolean check)."""
+    for a in near:
+        for b in moved:
+            overlap = a.common(b).Volume
+            if overlap > 1e-9 * max(a.Volume, b.Volume):
+                raise DeformError(f"The moved part overlaps the part that stays "
+                                  f"({overlap:.6g} mm^3); change {prop}.", prop)
+
+
 def lofted(profiles, prop="Samples"):
     """One solid through K profiles, each a list of faces with matching wires.
 
     Every wire is lofted through its K copies; the loft of the outer wires minus those of
     the holes gives the solid.
     """
+    shapes = {tuple(len(w.Edges) for f in p for w in f.Wires) for p in profiles}
+    if len(shapes) > 1:
+        raise DeformError("The cross-section changes its outline between Plane and Plane2, so no "
+                          "loft can keep it; move Plane2 (or Plane) so the region between them "
+                          "has one outline.", "Plane2")
     solids = []
     for k in range(len(profiles[0])):
         faces = [p[k] for p in profiles]
@@ -217,15 +310,19 @@ def crossing_faces(shape, origin, normal):
     found = []
     for i, face in enumerate(shape.Faces, start=1):
         lo, hi = extent(face, origin, normal)
-        if lo < -TOL and hi > TOL and face.section(plane_face(face, origin, normal)).Edges:
+        if lo < -TOL and hi > TOL and _section_edges(face, origin, normal):
             found.append((f"Face{i}", face))
     return found
+
+
+def _section_edges(face, origin, normal):
+    return [e for w in face.slice(vector(normal), float(np.dot(origin, normal))) for e in w.Edges]
 
 
 def joint_normals(face, origin, normal, samples=7):
     """Points and unit surface normals of `face` along its intersection with the plane."""
     points, normals = [], []
-    for edge in face.section(plane_face(face, origin, normal)).Edges:
+    for edge in _section_edges(face, origin, normal):
         for t in np.linspace(edge.FirstParameter, edge.LastParameter, samples):
             p = edge.valueAt(t)
             uv = face.Surface.parameter(p)

@@ -16,15 +16,20 @@ def plane_placement(plane, prop="Plane"):
         origin, normal = plane
         origin, normal = App.Vector(*origin), App.Vector(*normal)
     except (TypeError, ValueError):
-        raise DeformError(f"{prop} must be a Placement or an (origin, normal) pair of vectors.", prop)
+        raise DeformError(f"{prop} must be a Placement or a (point, direction) pair of vectors.", prop)
     n = unit_normal(tuple(normal), prop)
     return App.Placement(origin, App.Rotation(Z, App.Vector(*n)))
 
 
 def plane_arrays(placement):
-    """(origin, unit normal) as numpy arrays from a plane Placement."""
-    return (np.array(tuple(placement.Base)),
-            np.array(tuple(placement.Rotation.multVec(Z))))
+    """(origin, unit normal) as numpy arrays from a plane Placement.
+
+    Rounding noise of the rotation (a 1e-16 component) is cleared, so points on an
+    axis-aligned plane are exactly on it.
+    """
+    normal = np.array(tuple(placement.Rotation.multVec(Z)))
+    normal[np.abs(normal) < 1e-12] = 0.0
+    return np.array(tuple(placement.Base)), normal / np.linalg.norm(normal)
 
 
 def vector(array):

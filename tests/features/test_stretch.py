@@ -373,3 +373,52 @@ class StretchSections(unittest.TestCase):
             self.assertAlmostEqual(area / (np.pi * radius ** 2), 1.0, delta=1e-4)
         self.assertAlmostEqual(section_area(obj.Shape, (0, 0, 70), (0, 0, 1)), np.pi * 25, delta=1e-9)
         self.assertEqual((obj.Continuity, obj.SplitFaces), ("", []))  # the planes cut no face
+
+
+class StretchFolded(unittest.TestCase):
+    """Case 3 (Fig. 4/13): a folded separating surface avoids the faces a flat one would
+    cut with C0, so every joint is G1 (Lemma 1), and the volume grows by A * d."""
+
+    def setUp(self):
+        self.doc = fc.new_document()
+        notch = Part.Face(Part.makePolygon([V(80, 60, 0), V(100, 45, 0), V(120, 60, 0),
+                                            V(80, 60, 0)])).extrude(V(0, 0, 20))
+        self.shape = Part.makeBox(200, 60, 20).cut(notch)  # two slanted faces at y = 45..60
+        self.base = self.doc.addObject("Part::Feature", "Notched")
+        self.base.Shape = self.shape
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def test_flat_cut_is_c0_folded_cut_is_g1(self):
+        flat = fd.make_stretch(self.base, (V(90, 0, 0), V(1, 0, 0)), 25)
+        self.assertIn("C0", flat.Continuity)
+        folded = fd.make_stretch(self.base, (V(90, 0, 0), V(1, 0, 0)), 25)
+        folded.Polyline = [V(90, -10, 0), V(90, 30, 0), V(140, 50, 0), V(140, 70, 0)]
+        self.doc.recompute()
+        self.assertNotIn("Invalid", folded.State, folded.getStatusString())
+        result = folded.Shape
+        self.assertTrue(result.isValid())
+        self.assertEqual(len(result.Solids), 1)
+        self.assertAlmostEqual(result.Volume - self.shape.Volume, 60 * 20 * 25, delta=1e-6)
+        kinds = dict(e.split(": ") for e in folded.Continuity.split("; "))
+        self.assertEqual(set(kinds.values()), {"G1"})
+        self.assertEqual(len(kinds), 4)  # bottom, top, and the two sides y = 0 and y = 60
+        # the notch lies on the near side of the folded surface: untouched, its apex in place
+        apex = [v for v in result.Vertexes if abs(v.Point.y - 45) < 1e-9 and v.Point.z == 0]
+        self.assertEqual([round(v.Point.x, 9) for v in apex], [100.0])
+
+    def test_folded_shrink(self):
+        obj = fd.make_stretch(self.base, (V(90, 0, 0), V(1, 0, 0)), -20)
+        obj.Polyline = [V(90, -10, 0), V(90, 30, 0), V(140, 50, 0), V(140, 70, 0)]
+        self.doc.recompute()
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        self.assertTrue(obj.Shape.isValid())
+        self.assertAlmostEqual(obj.Shape.Volume - self.shape.Volume, -60 * 20 * 20, delta=1e-6)
+
+    def test_bad_polyline_is_an_error(self):
+        obj = fd.make_stretch(self.base, (V(90, 0, 0), V(1, 0, 0)), 10)
+        obj.Polyline = [V(90, -10, 0), V(95, 30, 0), V(90, 70, 0), V(80, 10, 0)]
+        self.doc.recompute()
+        self.assertIn("Invalid", obj.State)
+        self.assertIn("Polyline", obj.getStatusString())

@@ -86,3 +86,11 @@ def test_bad_input_names_the_property(kwargs, prop):
         stretch_points(box_surface(), **kwargs)
     assert err.value.prop == prop
     assert prop in str(err.value)
+
+
+def test_spacing_ignores_repeated_points():
+    pts = box_surface(0.5)
+    assert spacing(np.vstack([pts, pts])) == pytest.approx(0.5)
+    with pytest.raises(DeformError) as err:
+        spacing(np.zeros((5, 3)))
+    assert err.value.prop == "Base"

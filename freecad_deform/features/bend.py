@@ -1,0 +1,96 @@
+"""Bend (Wu & Ilies): the far part turns about an axis; the gap is the section revolved."""
+import numpy as np
+
+from ..geometry import motion as mo
+from ..geometry.bend import bend_tangents, check_bend
+from ..geometry.errors import DeformError
+from ..shapes import brep
+from ..shapes.convert import (mesh_arrays, mesh_from_arrays, plane_arrays, points_array,
+                              points_from_array)
+from . import split_sweep as ss
+from .base import DeformFeature
+
+
+class Bend(DeformFeature):
+    TYPE = "Bend"
+    PROPERTIES = (ss.BASE, ss.PLANE, ss.ANGLE, ss.AXIS, ss.USE_PLANE2, ss.PLANE2,
+                  ss.SAMPLES) + ss.RESULTS
+
+    def compute(self, obj, kind):
+        origin, normal, gap = ss.planes(obj)
+        axis_point, axis_direction = plane_arrays(obj.Axis)
+        angle = np.radians(obj.Angle.Value)
+        if obj.Samples < 1:
+            raise DeformError("Samples must be at least 1; raise Samples.", "Samples")
+        if kind in ("Mesh", "Points"):
+            return self._discrete(obj, kind, origin, normal, gap, axis_point, axis_direction,
+                                  angle)
+        shape = obj.Base.Shape
+        result = bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap,
+                            obj.Samples)
+        shift = None if gap is None else gap * normal
+        joints = [(origin, normal, bend_tangents(axis_point, axis_direction))]
+        if gap is not None:
+            joints.append((origin + shift, normal, bend_tangents(axis_point, axis_direction,
+                                                                 shift)))
+        return result, {**ss.volume_change(result, shape), **ss.joint_report(shape, joints)}
+
+    def _discrete(self, obj, kind, origin, normal, gap, axis_point, axis_direction, angle):
+        from ..geometry import mesh_sweep, points_sweep
+        if gap is None:
+            motion = mo.ScrewMotion(mo.rotation(axis_point, axis_direction, angle))
+        else:
+            of_s = mesh_sweep.bend_motion(axis_point, axis_direction, angle, origin, normal, gap)
+        if kind == "Points":
+            pts = points_array(obj.Base.Points)
+            out = (points_sweep.sweep_points(pts, origin, normal, motion) if gap is None else
+                   points_sweep.map_points_between(pts, origin, normal, gap, of_s))
+            return points_from_array(out), {}
+        v, t = mesh_arrays(obj.Base.Mesh)
+        v, t = (mesh_sweep.sweep_mesh(v, t, origin, normal, motion, obj.Samples) if gap is None
+                else mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples))
+        mesh = mesh_from_arrays(v, t)
+        return mesh, {"VolumeChange": mesh.Volume - obj.Base.Mesh.Volume}
+
+
+def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=None, samples=16):
+    """The bent shape: the far part turned by `angle` (radians) about the axis."""
+    turn = mo.rotation(axis_point, axis_direction, angle)
+    far_motion = turn if gap is None else turn @ mo.translation(-gap * normal)
+    far_joint = (mo.apply(turn, origin[None])[0], turn[:3, :3] @ normal)
+
+    def solid_fn(solid):
+        offsets = [0.0] if gap is None else [0.0, gap]
+        zones = brep.split_zones(solid, origin, normal, offsets)
+        near, far = zones[0], zones[-1]
+        cut = brep.faces_on_plane(near, origin, normal)
+        if not cut:
+            return None if not near and not far else brep.join(
+                near + brep.transformed(far, far_motion), [(origin, normal), far_joint])
+        check_bend(np.vstack([brep.sample_points(f) for f in cut]), normal, axis_point,
+                   axis_direction, angle)
+        if gap is None or brep.is_prismatic(zones[1], origin, normal, gap):
+            middle = brep.revolved(cut, axis_point, axis_direction, angle)
+        else:
+            fracs = np.linspace(0.0, 1.0, samples + 1)
+            profiles = ss.sections(zones[1], origin, normal, fracs * gap)
+            middle = brep.lofted([brep.transformed(p, turn_to(f)) for p, f in
+                                  zip(profiles, fracs)])
+        moved = brep.transformed(far, far_motion)
+        brep.check_apart(near, moved, "Angle")
+        return brep.join(near + middle + moved, [(origin, normal), far_joint], "Angle")
+
+    def turn_to(frac):
+        return mo.rotation(axis_point, axis_direction, frac * angle) @ mo.translation(
+            -frac * gap * normal)
+
+    def loose_fn(parts):
+        if gap is not None:
+            near, _, far = brep.split_loose(parts, origin, normal, [0.0, gap])
+        else:
+            near, far = brep.split_loose(parts, origin, normal, [0.0])
+        arcs = [brep.arc(p, axis_point, axis_direction, angle)
+                for p in brep.points_on_plane(near, origin, normal)]
+        return near + arcs + brep.transformed(far, far_motion)
+
+    return ss.deform_shape(shape, origin, normal, gap, solid_fn, loose_fn)

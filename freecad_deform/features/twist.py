@@ -1,0 +1,122 @@
+"""Twist (Wu & Ilies, Case 2): the region between two planes turns progressively about an
+axis; the part beyond Plane2 turns rigidly; length and cross-sections are kept."""
+import numpy as np
+
+from ..geometry import motion as mo
+from ..geometry.bend import twist_tangents
+from ..geometry.errors import DeformError
+from ..shapes import brep
+from ..shapes.convert import (mesh_arrays, mesh_from_arrays, plane_arrays, points_array,
+                              points_from_array)
+from . import split_sweep as ss
+from .base import DeformFeature, Prop
+
+
+class Twist(DeformFeature):
+    TYPE = "Twist"
+    PROPERTIES = (
+        ss.BASE, ss.PLANE,
+        Prop("App::PropertyPlacement", "Plane2", "Planes",
+             "Second separating plane, parallel to Plane and beyond it along the normal: the "
+             "region between the planes twists."),
+        ss.ANGLE,
+        Prop("App::PropertyBool", "UseAxis", "Motion",
+             "Twist about Axis; when false, about the Plane normal through the centroid of the "
+             "cross-section at Plane.", False),
+        ss.AXIS, ss.SAMPLES) + ss.RESULTS
+
+    def compute(self, obj, kind):
+        origin, normal, gap = ss.planes(obj, require_plane2=True)
+        angle = np.radians(obj.Angle.Value)
+        if obj.Samples < 2:
+            raise DeformError("A twist needs at least 2 Samples; raise Samples.", "Samples")
+        if kind in ("Mesh", "Points"):
+            return self._discrete(obj, kind, origin, normal, gap, angle)
+        shape = obj.Base.Shape
+        axis = self._axis(obj, shape, origin, normal)
+        result = twist_shape(shape, origin, normal, gap, angle, *axis, obj.Samples)
+        tangents = twist_tangents(normal, gap, angle, *axis)
+        joints = [(origin, normal, tangents), (origin + gap * normal, normal, tangents)]
+        return result, {**ss.volume_change(result, shape), **ss.joint_report(shape, joints)}
+
+    @staticmethod
+    def _axis(obj, shape, origin, normal):
+        if obj.UseAxis:
+            return plane_arrays(obj.Axis)
+        return section_centroid(brep.solids_of(shape), origin, normal), normal
+
+    def _discrete(self, obj, kind, origin, normal, gap, angle):
+        from ..geometry import mesh_sweep, points_sweep
+        if kind == "Points":
+            pts = points_array(obj.Base.Points)
+            axis = plane_arrays(obj.Axis) if obj.UseAxis else (
+                _cloud_centroid(pts, origin, normal), normal)
+            of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
+            out = points_sweep.map_points_between(pts, origin, normal, gap, of_s)
+            return points_from_array(out), {}
+        v, t = mesh_arrays(obj.Base.Mesh)
+        axis = plane_arrays(obj.Axis) if obj.UseAxis else (
+            section_centroid_mesh(obj.Base.Mesh, origin, normal), normal)
+        of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
+        v, t = mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples)
+        mesh = mesh_from_arrays(v, t)
+        return mesh, {"VolumeChange": mesh.Volume - obj.Base.Mesh.Volume}
+
+
+def section_centroid(solids, origin, normal):
+    """Area centroid of the cross-section at the plane (the default twist axis passes here)."""
+    faces = ss.sections(solids, origin, normal, [0.0])[0]
+    if not faces:
+        raise DeformError("Plane misses the part; move Plane so it crosses the part.", "Plane")
+    area = sum(f.Area for f in faces)
+    return sum(np.array(tuple(f.CenterOfMass)) * f.Area for f in faces) / area
+
+
+def section_centroid_mesh(mesh, origin, normal):
+    """Centroid of the mesh's cross-section polylines at the plane (their vertex mean)."""
+    import FreeCAD as App
+    lines = mesh.crossSections([(App.Vector(*origin), App.Vector(*normal))])[0]
+    pts = np.array([tuple(p) for line in lines for p in line])
+    if len(pts) == 0:
+        raise DeformError("Plane misses the part; move Plane so it crosses the part.", "Plane")
+    return pts.mean(axis=0)
+
+
+def _cloud_centroid(points, origin, normal):
+    from ..geometry.points_stretch import spacing
+    s = (points - origin) @ normal
+    near = points[np.abs(s) <= spacing(points)]
+    if len(near) == 0:
+        raise DeformError("Plane misses the part; move Plane so it crosses the part.", "Plane")
+    return near.mean(axis=0) - ((near.mean(axis=0) - origin) @ normal) * normal
+
+
+def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, samples=16):
+    """The twisted shape: sections at s turned by angle * s / gap about the axis, lofted."""
+    turn = mo.rotation(axis_point, axis_direction, angle)
+    far_joint = (mo.apply(turn, (origin + gap * normal)[None])[0], turn[:3, :3] @ normal)
+    fracs = np.linspace(0.0, 1.0, samples + 1)
+
+    def turn_to(frac):
+        return mo.rotation(axis_point, axis_direction, frac * angle)
+
+    def solid_fn(solid):
+        near, between, far = brep.split_zones(solid, origin, normal, [0.0, gap])
+        moved = brep.transformed(far, turn)
+        cut = brep.faces_on_plane(near, origin, normal)
+        if not between:
+            return brep.join(near + moved, [(origin, normal), far_joint]) if near or far else None
+        if cut and brep.is_prismatic(between, origin, normal, gap):
+            profiles = [brep.transformed(brep.translated(cut, f * gap * normal), turn_to(f))
+                        for f in fracs]
+        else:
+            profiles = [brep.transformed(p, turn_to(f)) for p, f in
+                        zip(ss.sections(between, origin, normal, fracs * gap), fracs)]
+        middle = brep.lofted(profiles)
+        return brep.join(near + middle + moved, [(origin, normal), far_joint], "Angle")
+
+    def loose_fn(parts):
+        near, between, far = brep.split_loose(parts, origin, normal, [0.0, gap])
+        return near + brep.transformed(far, turn)
+
+    return ss.deform_shape(shape, origin, normal, gap, solid_fn, loose_fn)
