@@ -5,8 +5,7 @@ from ..geometry import motion as mo
 from ..geometry.bend import bend_tangents, check_bend
 from ..geometry.errors import DeformError
 from ..shapes import brep
-from ..shapes.convert import (mesh_arrays, mesh_from_arrays, plane_arrays, points_array,
-                              points_from_array)
+from ..shapes.convert import mesh_arrays, plane_arrays, points_array, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature
 
@@ -47,10 +46,9 @@ class Bend(DeformFeature):
                    points_sweep.map_points_between(pts, origin, normal, gap, of_s))
             return points_from_array(out), {}
         v, t = mesh_arrays(obj.Base.Mesh)
-        v, t = (mesh_sweep.sweep_mesh(v, t, origin, normal, motion, obj.Samples) if gap is None
-                else mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples))
-        mesh = mesh_from_arrays(v, t)
-        return mesh, {"VolumeChange": mesh.Volume - obj.Base.Mesh.Volume}
+        return ss.mesh_result(obj.Base.Mesh, *(
+            mesh_sweep.sweep_mesh(v, t, origin, normal, motion, obj.Samples) if gap is None
+            else mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples)))
 
 
 def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=None, samples=16):

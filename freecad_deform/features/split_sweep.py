@@ -108,6 +108,14 @@ def sections(solids, origin, normal, offsets):
     return out
 
 
+def mesh_result(base_mesh, vertices, triangles):
+    """The new Mesh and its VolumeChange, measured in float64 on the arrays."""
+    from ..geometry.mesh_measure import mesh_volume
+    from ..shapes.convert import mesh_arrays, mesh_from_arrays
+    change = mesh_volume(vertices, triangles) - mesh_volume(*mesh_arrays(base_mesh))
+    return mesh_from_arrays(vertices, triangles), {"VolumeChange": change}
+
+
 def volume_change(result, shape):
     return {"VolumeChange": result.Volume - shape.Volume}
 

@@ -5,7 +5,7 @@ from ..geometry.errors import DeformError
 from ..geometry.points_stretch import stretch_points
 from ..geometry.polyline import FoldedSurface
 from ..shapes import brep
-from ..shapes.convert import (mesh_arrays, mesh_from_arrays, points_array, points_from_array)
+from ..shapes.convert import mesh_arrays, points_array, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature, Prop
 
@@ -34,9 +34,8 @@ class Stretch(DeformFeature):
             return points_from_array(pts), {}
         if kind == "Mesh":
             from ..geometry.mesh_stretch import stretch_mesh
-            v, t = stretch_mesh(*mesh_arrays(obj.Base.Mesh), origin, normal, distance, *second)
-            mesh = mesh_from_arrays(v, t)
-            return mesh, {"VolumeChange": mesh.Volume - obj.Base.Mesh.Volume}
+            return ss.mesh_result(obj.Base.Mesh, *stretch_mesh(
+                *mesh_arrays(obj.Base.Mesh), origin, normal, distance, *second))
         shape = obj.Base.Shape
         result = stretch_shape(shape, origin, normal, distance, gap)
         joints = [(origin, normal, ss.constant(normal))]

@@ -6,8 +6,7 @@ from ..geometry import motion as mo
 from ..geometry.bend import twist_tangents
 from ..geometry.errors import DeformError
 from ..shapes import brep
-from ..shapes.convert import (mesh_arrays, mesh_from_arrays, plane_arrays, points_array,
-                              points_from_array)
+from ..shapes.convert import mesh_arrays, plane_arrays, points_array, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature, Prop
 
@@ -58,9 +57,8 @@ class Twist(DeformFeature):
         axis = plane_arrays(obj.Axis) if obj.UseAxis else (
             section_centroid_mesh(obj.Base.Mesh, origin, normal), normal)
         of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
-        v, t = mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples)
-        mesh = mesh_from_arrays(v, t)
-        return mesh, {"VolumeChange": mesh.Volume - obj.Base.Mesh.Volume}
+        return ss.mesh_result(obj.Base.Mesh, *mesh_sweep.map_between(
+            v, t, origin, normal, gap, of_s, obj.Samples))
 
 
 def section_centroid(solids, origin, normal):

@@ -5,6 +5,8 @@ from scipy.spatial import cKDTree
 from .errors import DeformError
 from .planes import parallel_gap, signed_distance, unit_normal
 
+TOUCH = 1e-9  # points this close to a plane count as on it (as in the mesh kernels)
+
 
 def spacing(points, sample=20000, seed=0):
     """Median distance to the nearest other point: the cloud's own sampling step.
@@ -39,6 +41,7 @@ def stretch_points(points, origin, normal, distance, origin2=None, normal2=None,
     pts = np.asarray(points, float).reshape(-1, 3)
     n = unit_normal(normal)
     s = signed_distance(pts, origin, n)
+    s[np.abs(s) <= TOUCH] = 0.0  # on the plane: stays with the near part, bit-identical
     _check_crossing(s, "Plane")
     if distance == 0:
         return pts.copy()

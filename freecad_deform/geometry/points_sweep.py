@@ -41,7 +41,7 @@ def sweep_points(points, origin, normal, motion, step=None):
         raise DeformError(f"The fill step must be a positive length (it is {step:g}); "
                           f"give a positive Step.", "Step")
     out = pts.copy()
-    far = s > 0
+    far = s > _TOUCH
     out[far] = apply(motion.matrix(1.0), pts[far])
     near = np.abs(s) <= step / 2
     section = pts[near] - s[near, None] * n

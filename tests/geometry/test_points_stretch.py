@@ -31,9 +31,10 @@ def test_rigid_parts_move_exactly(normal, frac, distance):
     origin = n * (s_all.min() + frac * (s_all.max() - s_all.min()))
     out = stretch_points(pts, origin, n, distance)
     s = (pts - origin) @ n
+    near = s <= 1e-9  # points on the plane (to rounding) stay with the near part
     # the original points come first, in order: before the plane bit-identical, beyond it moved
-    np.testing.assert_array_equal(out[: len(pts)][s <= 0], pts[s <= 0])
-    np.testing.assert_allclose(out[: len(pts)][s > 0], pts[s > 0] + distance * n, atol=1e-12)
+    np.testing.assert_array_equal(out[: len(pts)][near], pts[near])
+    np.testing.assert_allclose(out[: len(pts)][~near], pts[~near] + distance * n, atol=1e-12)
     fill = out[len(pts):]
     sf = (fill - origin) @ n
     assert np.all((sf > 0) & (sf < distance))
