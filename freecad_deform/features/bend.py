@@ -13,7 +13,7 @@ from .base import DeformFeature
 class Bend(DeformFeature):
     TYPE = "Bend"
     PROPERTIES = (ss.BASE, ss.PLANE, ss.ANGLE, ss.AXIS, ss.USE_PLANE2, ss.PLANE2,
-                  ss.SAMPLES) + ss.RESULTS
+                  ss.KEYS, ss.INTERPOLATION, ss.SAMPLES) + ss.RESULTS
 
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj)
@@ -21,6 +21,9 @@ class Bend(DeformFeature):
         angle = np.radians(obj.Angle.Value)
         if obj.Samples < 1:
             raise DeformError("Samples must be at least 1; raise Samples.", "Samples")
+        motion = ss.key_motion(obj, mo.rotation(axis_point, axis_direction, angle))
+        if motion is not None:
+            return ss.keyed(obj, kind, origin, normal, gap, motion)
         if kind in ("Mesh", "Points"):
             return self._discrete(obj, kind, origin, normal, gap, axis_point, axis_direction,
                                   angle)

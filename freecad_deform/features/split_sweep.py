@@ -3,10 +3,11 @@ driver, wireframes that follow, and the continuity report of Lemma 1."""
 import numpy as np
 
 from ..geometry import continuity
+from ..geometry import motion as mo
 from ..geometry.errors import DeformError
 from ..geometry.planes import parallel_gap
 from ..shapes import brep
-from ..shapes.convert import plane_arrays
+from ..shapes.convert import matrix_array, plane_arrays
 from .base import Prop
 
 BASE = Prop("App::PropertyLink", "Base", "Base",
@@ -27,6 +28,14 @@ ANGLE = Prop("App::PropertyAngle", "Angle", "Motion", "How far the far part turn
 SAMPLES = Prop("App::PropertyInteger", "Samples", "Sweep",
                "Number of intermediate profiles where the sweep is not exact (lofts, meshes).",
                16)
+KEYS = Prop("App::PropertyPlacementList", "KeyPlacements", "Motion",
+            "Key placements of the far part (the paper's key frames), passed in order before "
+            "its final place; the gap is then a loft through Samples profiles normal to the "
+            "path. Empty: the exact sweep (extrusion or revolve).")
+INTERPOLATION = Prop("App::PropertyEnumeration", "Interpolation", "Motion",
+                     "How the motion passes through KeyPlacements: Rational, a C2 dual-quaternion "
+                     "spline whose point paths are NURBS; Screw, a screw motion from key to key.",
+                     list(mo.INTERPOLATIONS))
 RESULTS = (
     Prop("App::PropertyFloat", "VolumeChange", "Result",
          "Volume of the result minus the volume of the Base, in mm^3 (negative when it "
@@ -93,6 +102,82 @@ def joint_report(shape, joints):
             worst[name] = "C0" if "C0" in (kind, worst.get(name)) else kind
     entries = sorted(worst.items(), key=lambda item: int(item[0][4:]))
     return {"Continuity": continuity.report(entries), "SplitFaces": [n for n, _ in entries]}
+
+
+def key_motion(obj, final):
+    """The motion through the object's KeyPlacements ending at `final`, or None."""
+    if not len(obj.KeyPlacements):
+        return None
+    keys = [np.eye(4)] + [matrix_array(p) for p in obj.KeyPlacements] + [final]
+    return mo.key_motion(keys, obj.Interpolation)
+
+
+def motion_joints(origin, normal, motion):
+    """Joint planes and Lemma 1 tangents of a Case 1 sweep by `motion`: at the Plane, and
+    at the far part's face (tangents at t = 1 turned back to the original frame)."""
+    end = motion.matrix(1.0)
+    return [(origin, normal, lambda p: motion.velocity(p, 0.0)),
+            (mo.apply(end, origin[None])[0], end[:3, :3] @ normal,
+             lambda p: motion.velocity(mo.apply(np.linalg.inv(end), p), 1.0) @ end[:3, :3])]
+
+
+def sweep_solid(solid, origin, normal, motion, samples, prop="KeyPlacements"):
+    """Case 1 with a general motion (Steps 4-7): the section swept through profiles normal
+    to the path of its centroid, placed and turned by the motion, and lofted."""
+    near, far = brep.split_zones(solid, origin, normal, [0.0])
+    cut = brep.faces_on_plane(near, origin, normal)
+    end = motion.matrix(1.0)
+    if not cut:  # this solid lies on one side: kept or moved whole
+        return (near + brep.transformed(far, end))[0]
+    centroid = sum(np.array(tuple(f.CenterOfMass)) * f.Area for f in cut) / sum(
+        f.Area for f in cut)
+    ts = np.linspace(0.0, 1.0, samples + 1)
+    frames = mo.profile_frames(motion, centroid, ts)
+    across = brep.projected(cut, origin, normal, frames[0])
+    profiles = ([cut] + [brep.transformed(across, f @ np.linalg.inv(frames[0]))
+                         for f in frames[1:-1]] + [brep.transformed(cut, end)])
+    for t, profile in zip(ts[1:], profiles[1:]):  # the sweep must not reach back into the part
+        reach = min(float(((brep.sample_points(f) - origin) @ normal).min()) for f in profile)
+        if reach < -brep.TOL:
+            raise DeformError(f"The path leaves Plane too obliquely: the profile at t = {t:.2g} "
+                              f"reaches {-reach:.3g} mm behind Plane; change {prop} or "
+                              f"Interpolation.", prop)
+    moved = brep.transformed(far, end)
+    brep.check_apart(near, moved, prop)
+    far_cut = brep.faces_on_plane(far, origin, normal)
+    faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)]
+             + brep.loft_sides(profiles, prop)
+             + brep.transformed([f for s in far for f in s.Faces
+                                 if not any(f.isSame(c) for c in far_cut)], end))
+    joints = [(origin, normal), (mo.apply(end, origin[None])[0], end[:3, :3] @ normal)]
+    return brep.join_faces(faces, joints, prop)
+
+
+def keyed(obj, kind, origin, normal, gap, motion):
+    """Result and outputs of a Case 1 deformation by a key motion, for every kind of Base."""
+    from ..geometry import mesh_sweep, points_sweep
+    from ..shapes.convert import mesh_arrays, points_array, points_from_array
+    if gap is not None:
+        raise DeformError("KeyPlacements move the part beyond one Plane; clear KeyPlacements "
+                          "or UsePlane2.", "KeyPlacements")
+    if obj.Samples < 2:
+        raise DeformError("A key motion needs at least 2 Samples; raise Samples.", "Samples")
+    if kind == "Points":
+        pts = points_sweep.sweep_points(points_array(obj.Base.Points), origin, normal, motion)
+        return points_from_array(pts), {}
+    if kind == "Mesh":
+        return mesh_result(obj.Base.Mesh, *mesh_sweep.sweep_mesh(
+            *mesh_arrays(obj.Base.Mesh), origin, normal, motion, obj.Samples))
+    shape, end = obj.Base.Shape, motion.matrix(1.0)
+
+    def loose_fn(parts):
+        near, far = brep.split_loose(parts, origin, normal, [0.0])
+        return near + brep.transformed(far, end)
+
+    result = deform_shape(shape, origin, normal, None,
+                          lambda s: sweep_solid(s, origin, normal, motion, obj.Samples), loose_fn)
+    return result, {**volume_change(result, shape),
+                    **joint_report(shape, motion_joints(origin, normal, motion))}
 
 
 def sections(solids, origin, normal, offsets):

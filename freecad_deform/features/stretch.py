@@ -1,6 +1,7 @@
 """Stretch (Wu & Ilies, Cases 1 and 2): split at a plane, move the far part, fill the gap."""
 import numpy as np
 
+from ..geometry import motion as mo
 from ..geometry.errors import DeformError
 from ..geometry.points_stretch import stretch_points
 from ..geometry.polyline import FoldedSurface
@@ -21,6 +22,7 @@ class Stretch(DeformFeature):
              "Case 3: corner points of a polyline in a plane that contains the Plane normal; "
              "the separating surface is the polyline extruded perpendicular to that plane, "
              "and the part moves along the Plane normal. Empty: the flat Plane."),
+        ss.KEYS, ss.INTERPOLATION, ss.SAMPLES,
     ) + ss.RESULTS
 
     def compute(self, obj, kind):
@@ -28,6 +30,9 @@ class Stretch(DeformFeature):
         distance = obj.Distance.Value
         if len(obj.Polyline) > 0:
             return self._folded(obj, kind, normal, distance)
+        motion = ss.key_motion(obj, mo.translation(distance * normal))
+        if motion is not None:
+            return ss.keyed(obj, kind, origin, normal, gap, motion)
         second = () if gap is None else (origin + gap * normal, normal)
         if kind == "Points":
             pts = stretch_points(points_array(obj.Base.Points), origin, normal, distance, *second)

@@ -356,3 +356,51 @@ def profile_frames(motion, point, ts, x_axis=None):
     out[:, :3, 0], out[:, :3, 1], out[:, :3, 2], out[:, :3, 3] = x, y, z, origins
     out[:, 3, 3] = 1.0
     return out
+
+
+class PiecewiseScrew:
+    """Constant-speed screw motions from each key to the next: exact lines and circles
+    between the keys, continuous (C0) at them. keys[0] must be the identity."""
+
+    def __init__(self, keys, params=None, prop="Keys"):
+        self.keys = [np.asarray(k, float) for k in keys]
+        if len(self.keys) < 2 or not np.allclose(self.keys[0], np.eye(4), atol=1e-12):
+            raise DeformError("A key motion needs the identity first and at least one more "
+                              "key.", prop)
+        count = len(self.keys) - 1
+        self.params = np.linspace(0.0, 1.0, count + 1) if params is None else np.asarray(
+            params, float)
+        if len(self.params) != count + 1 or np.any(np.diff(self.params) <= 0):
+            raise DeformError("Key parameters must rise from 0 to 1, one per key.", prop)
+        self.pieces = [ScrewMotion(b @ np.linalg.inv(a), prop)
+                       for a, b in zip(self.keys[:-1], self.keys[1:])]
+
+    def _locate(self, t):
+        i = int(np.clip(np.searchsorted(self.params, t, side="right") - 1, 0, len(self.pieces) - 1))
+        a, b = self.params[i], self.params[i + 1]
+        return i, (t - a) / (b - a), 1.0 / (b - a)
+
+    def matrix(self, t):
+        i, local, _ = self._locate(float(t))
+        return self.pieces[i].matrix(local) @ self.keys[i]
+
+    def matrices(self, ts):
+        return np.array([self.matrix(t) for t in np.asarray(ts, float).reshape(-1)])
+
+    def velocity(self, points, t=0.0):
+        """Tangents at M(t) p of the points p (the piece's screw velocity, chain rule)."""
+        i, local, rate = self._locate(float(t))
+        moved_by_key = apply(self.keys[i], np.asarray(points, float).reshape(-1, 3))
+        return rate * self.pieces[i].velocity(moved_by_key, local)
+
+
+INTERPOLATIONS = ("Rational", "Screw")
+
+
+def key_motion(keys, interpolation="Rational"):
+    """The motion through `keys` (4x4, the identity first): "Rational" is KeyMotion (a C2
+    dual-quaternion spline, NURBS paths), "Screw" is PiecewiseScrew (exact between keys)."""
+    if interpolation not in INTERPOLATIONS:
+        raise DeformError(f"Interpolation must be one of {', '.join(INTERPOLATIONS)}.",
+                          "Interpolation")
+    return KeyMotion(keys) if interpolation == "Rational" else PiecewiseScrew(keys)

@@ -205,8 +205,25 @@ def join(solids, joints, prop="Distance"):
     points lie on a joint surface. Faces the split cut there are merged again (no seams),
     while every edge and vertex elsewhere, including the Base's own, is kept.
     """
-    from Part import ShapeUpgrade
     fused = solids[0] if len(solids) == 1 else solids[0].fuse(solids[1:])
+    return _merged(fused, joints, prop)
+
+
+def join_faces(faces, joints, prop):
+    """Sew faces that close a solid (no boolean): for swept lofts, whose end profiles are
+    the cut faces themselves, where OCCT's fuse of B-spline lofts is slow or drops pieces."""
+    sewn = Part.makeCompound(faces)
+    sewn.sewShape()
+    if len(sewn.Shells) != 1 or not sewn.Shells[0].isClosed():
+        raise DeformError(f"The swept faces do not close a solid; change {prop}.", prop)
+    solid = Part.Solid(sewn.Shells[0])
+    if solid.Volume < 0:
+        solid.reverse()
+    return _merged(solid, joints, prop)
+
+
+def _merged(fused, joints, prop):
+    from Part import ShapeUpgrade
     on_surface = joints if callable(joints) else on_planes(joints)
 
     def on_joint(sub):
@@ -276,8 +293,37 @@ def check_apart(near, moved, prop):
         for b in moved:
             overlap = a.common(b).Volume
             if overlap > 1e-9 * max(a.Volume, b.Volume):
-                raise DeformError(f"The moved part overlaps the part that stays "
+                raise DeformError(f"The moved or swept part overlaps the part that stays "
                                   f"({overlap:.6g} mm^3); change {prop}.", prop)
+
+
+def projected(faces, origin, normal, placement):
+    """The planar faces projected onto the XY plane of `placement` along its Z: the paper's
+    f1', the section seen across the path. Faces already across it are returned as they are.
+    """
+    z, p = placement[:3, 2], placement[:3, 3]
+    if np.linalg.norm(np.cross(z, normal)) < 1e-12:
+        return faces
+    # on the section's plane this is the orthogonal projection; off it, invertible
+    lin = np.eye(3) - np.outer(z, z) + np.outer(z, normal)
+    m = np.eye(4)
+    m[:3, :3], m[:3, 3] = lin, p - lin @ p
+    return [f.transformGeometry(App.Matrix(*m.ravel())) for f in faces]
+
+
+def loft_sides(profiles, prop="Samples"):
+    """The side faces of the lofts of every wire through the K profiles (no caps)."""
+    _check_profiles(profiles, prop)
+    return [f for k in range(len(profiles[0])) for i in range(len(profiles[0][k].Wires))
+            for f in Part.makeLoft([p[k].Wires[i] for p in profiles], False, False).Faces]
+
+
+def _check_profiles(profiles, prop):
+    shapes = {tuple(len(w.Edges) for f in p for w in f.Wires) for p in profiles}
+    if len(shapes) > 1:
+        raise DeformError("The cross-section changes its outline between Plane and Plane2, so no "
+                          "loft can keep it; move Plane2 (or Plane) so the region between them "
+                          "has one outline.", "Plane2")
 
 
 def lofted(profiles, prop="Samples"):
@@ -286,11 +332,7 @@ def lofted(profiles, prop="Samples"):
     Every wire is lofted through its K copies; the loft of the outer wires minus those of
     the holes gives the solid.
     """
-    shapes = {tuple(len(w.Edges) for f in p for w in f.Wires) for p in profiles}
-    if len(shapes) > 1:
-        raise DeformError("The cross-section changes its outline between Plane and Plane2, so no "
-                          "loft can keep it; move Plane2 (or Plane) so the region between them "
-                          "has one outline.", "Plane2")
+    _check_profiles(profiles, prop)
     solids = []
     for k in range(len(profiles[0])):
         faces = [p[k] for p in profiles]

@@ -32,6 +32,11 @@ def plane_arrays(placement):
     return np.array(tuple(placement.Base)), normal / np.linalg.norm(normal)
 
 
+def matrix_array(placement):
+    """The 4x4 homogeneous matrix of a Placement, as a numpy array."""
+    return np.array(placement.toMatrix().A, float).reshape(4, 4)
+
+
 def vector(array):
     return App.Vector(*(float(x) for x in array))
 

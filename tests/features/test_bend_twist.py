@@ -226,3 +226,86 @@ class ContinuityTest(Document):
         for name in slanted:
             self.assertEqual(kinds[name], "C0")
         self.assertIn("G1", kinds.values())
+
+
+class KeyMotionTest(Document):
+    """General motion (Fig. 2c, Fig. 5): the far part passes through key placements; the gap
+    is a loft through profiles normal to the path of the section's centroid (Step 6)."""
+
+    plane, axis = (V(100, 0, 0), V(1, 0, 0)), (V(100, 0, -40), V(0, 1, 0))
+
+    def keyed_bend(self, lift, interpolation):
+        bar = Part.makeBox(200, 20, 10)
+        obj = fd.make_bend(self.base(bar), self.plane, 60, self.axis)
+        half = App.Placement(V(0, 0, 0), App.Rotation(V(0, 1, 0), 30), V(100, 0, -40))
+        obj.KeyPlacements = [App.Placement(V(0, lift, 0), App.Rotation()).multiply(half)]
+        obj.Interpolation = interpolation
+        self.doc.recompute()
+        return bar, obj
+
+    def test_key_on_the_circle_gives_the_bend(self):
+        for interpolation in ("Rational", "Screw"):
+            bar, obj = self.keyed_bend(0.0, interpolation)
+            result = self.ok(obj)
+            pappus = 200.0 * 45.0 * np.radians(60)  # section 20 x 10, centroid 45 from the axis
+            self.assertAlmostEqual(obj.VolumeChange / pappus, 1.0, delta=1e-3)  # a loft, not exact
+
+    def test_key_off_the_circle_lands_and_passes_its_profiles(self):
+        bar, obj = self.keyed_bend(5.0, "Screw")
+        result = self.ok(obj)
+        # the far end lands exactly where the plain bend puts it
+        rot = rotation_matrix((0, 1, 0), 60)
+        ends = (points_of(bar)[points_of(bar)[:, 0] > 199] - [100, 0, -40]) @ rot.T + [100, 0, -40]
+        self.assertLess(cKDTree(points_of(result)).query(ends)[0].max(), 1e-7)
+        # the loft passes through its profile at t = 1/4 (sample 4 of 16): the section, in the
+        # plane normal to the centroid's path, turned by the motion. The frame is built here,
+        # its tangent by a finite difference.
+        from freecad_deform.geometry.motion import PiecewiseScrew
+        from freecad_deform.geometry.planes import frame
+        key = np.array(obj.KeyPlacements[0].toMatrix().A).reshape(4, 4)
+        end = np.eye(4)
+        end[:3, :3], end[:3, 3] = rot, np.array([100, 0, -40]) - rot @ [100, 0, -40]
+        motion = PiecewiseScrew([np.eye(4), key, end])
+        centre = np.array([100.0, 10, 5])
+
+        def at(t):
+            m = motion.matrix(t)
+            return m[:3, :3] @ centre + m[:3, 3]
+
+        def placement(t, x0):
+            z = (at(t + 1e-7) - at(t - 1e-7)) / 2e-7 if t > 0 else (at(1e-7) - at(0)) / 1e-7
+            z /= np.linalg.norm(z)
+            x = motion.matrix(t)[:3, :3] @ x0
+            x -= (x @ z) * z
+            x /= np.linalg.norm(x)
+            return np.column_stack([x, np.cross(z, x), z]), at(t)
+
+        x0 = frame([1.0, 0, 0])[0]
+        (r0, o0), (r1, o1) = placement(0.0, x0), placement(0.25, x0)
+        for dy, dz in ((10, 5), (10, -5), (-10, 5), (-10, -5)):
+            offset = np.array([0, dy, dz])  # a corner of the section, from its centroid ...
+            local = r0.T @ (offset - (offset @ r0[:, 2]) * r0[:, 2])  # ... seen across the path
+            corner = Part.Vertex(V(*(o1 + r1 @ local)))
+            self.assertLess(result.distToShape(corner)[0], 1e-5)
+        self.assertGreater(abs(obj.VolumeChange - 200.0 * 45.0 * np.radians(60)), 1.0)
+
+    def test_oblique_path_is_an_error(self):
+        bar, obj = self.keyed_bend(10.0, "Screw")  # the path leaves Plane 11 deg off its normal
+        self.assertIn("Invalid", obj.State)
+        self.assertIn("KeyPlacements", obj.getStatusString())
+        self.assertAlmostEqual(obj.Base.Shape.Volume, 40000.0, delta=1e-9)
+
+    def test_key_on_a_mesh_and_bad_interpolation(self):
+        import Mesh
+        base = self.doc.addObject("Mesh::Feature", "BarMesh")
+        base.Mesh = Mesh.Mesh(Part.makeBox(200, 20, 10).tessellate(0.1))
+        obj = fd.make_stretch(base, (V(100, 0, 0), V(1, 0, 0)), 60)
+        obj.KeyPlacements = [App.Placement(V(30, 15, 0), App.Rotation())]
+        self.doc.recompute()
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        self.assertTrue(obj.Mesh.isSolid())
+        self.assertFalse(obj.Mesh.hasNonManifolds())
+        obj.UsePlane2 = True
+        obj.Plane2 = App.Placement(V(150, 0, 0), App.Rotation(V(0, 0, 1), V(1, 0, 0)))
+        self.doc.recompute()
+        self.assertIn("KeyPlacements", obj.getStatusString())
