@@ -14,8 +14,8 @@ class DeformWorkbench(Workbench):  # noqa: F821  (Workbench comes from FreeCAD's
     from freecad_deform.gui import icon_path as _icon_path
 
     MenuText = "Deform"
-    ToolTip = ("Edit existing models without their history: stretch a solid, mesh or "
-               "point cloud at a plane, keeping the result parametric")
+    ToolTip = ("Edit existing models without their history: stretch, bend or twist a solid, "
+               "mesh or point cloud at a plane, keeping the result parametric")
     Icon = _icon_path("Deform")
     del _icon_path
 

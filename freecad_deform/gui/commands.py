@@ -12,12 +12,17 @@ from .task_panel import panel_class
 
 
 class CommandBase:
-    """Subclass and set NAME, TYPE, MENU_TEXT, TOOL_TIP; implement create(base, plane)."""
+    """Subclass and set NAME, TYPE, MENU_TEXT, TOOL_TIP; implement create(base, plane).
+
+    With AXIS = True the selection may also hold a straight edge or a datum line, and
+    create(base, plane, axis) gets it as (point, direction) or None.
+    """
 
     NAME = ""          # FreeCAD command name, "Deform_<TYPE>"
     TYPE = ""          # the proxy's TYPE: icon resources/icons/<TYPE>.svg, panel <TYPE>Panel
     MENU_TEXT = ""
     TOOL_TIP = ""
+    AXIS = False       # the selection may give an axis (a straight edge or a datum line)
 
     def GetResources(self):
         return {"Pixmap": icon_path(self.TYPE), "MenuText": self.MENU_TEXT,
@@ -30,9 +35,9 @@ class CommandBase:
 
     def read_selection(self):
         """What create() needs from the selection, or None when it does not fit."""
-        return selection.read(Gui.Selection.getSelectionEx())
+        return selection.read(Gui.Selection.getSelectionEx(), axis=self.AXIS)
 
-    def create(self, base, picked_plane):
+    def create(self, base, picked_plane, picked_axis=None):
         """Make the feature object (through freecad_deform.api) and return it."""
         raise NotImplementedError
 
@@ -41,7 +46,7 @@ class CommandBase:
         if fits is None:
             App.Console.PrintError(f"{self.MENU_TEXT}: {self.TOOL_TIP}\n")
             return
-        base, picked = fits
+        base, *picked = fits
         doc = base.Document
         visible = {base.Name: bool(base.ViewObject.Visibility)} if base.ViewObject else {}
         # Persistent, so the transaction outlives this command invocation: the task panel
@@ -49,7 +54,7 @@ class CommandBase:
         transaction = App.setActiveTransaction(self.TYPE, True) or None
         try:
             self._hide(base)
-            obj = self.create(base, picked)
+            obj = self.create(base, *picked)
         except Exception as e:
             if transaction:
                 App.closeActiveTransaction(True, transaction)
@@ -87,7 +92,45 @@ class StretchCommand(CommandBase):
         return make_stretch(base, selection.suggested_plane(base, picked_plane), 0.0)
 
 
-COMMANDS = [StretchCommand]
+class BendCommand(CommandBase):
+    NAME = "Deform_Bend"
+    TYPE = "Bend"
+    MENU_TEXT = "Bend"
+    TOOL_TIP = ("Bend a solid, mesh or point cloud at a plane: the part beyond the plane turns "
+                "by Angle about Axis, the gap is filled with the revolved cross-section.\n"
+                "Select one solid, mesh or point cloud, optionally with a planar face or a "
+                "datum plane that gives the plane and a straight edge or a datum line that "
+                "gives the axis.")
+    AXIS = True
+    ANGLE = 30.0
+
+    def create(self, base, picked_plane, picked_axis=None):
+        from ..api import make_bend
+        plane, axis = selection.suggested_bend(base, picked_plane, picked_axis)
+        return make_bend(base, plane, self.ANGLE, axis)
+
+
+class TwistCommand(CommandBase):
+    NAME = "Deform_Twist"
+    TYPE = "Twist"
+    MENU_TEXT = "Twist"
+    TOOL_TIP = ("Twist a solid, mesh or point cloud between two parallel planes: sections "
+                "between Plane and Plane2 turn progressively by up to Angle, the part beyond "
+                "Plane2 turns rigidly; length and cross-sections are kept.\n"
+                "Select one solid, mesh or point cloud, optionally with a planar face or a "
+                "datum plane that gives Plane and a straight edge or a datum line that gives "
+                "the axis (else the Plane normal through the section's centroid).")
+    AXIS = True
+    ANGLE = 30.0
+
+    def create(self, base, picked_plane, picked_axis=None):
+        from ..api import make_twist
+        plane, plane2 = selection.suggested_twist(base, picked_plane)
+        axis = None if picked_axis is None else selection.axis_through(picked_axis, plane)
+        return make_twist(base, plane, plane2, self.ANGLE, axis)
+
+
+COMMANDS = [StretchCommand, BendCommand, TwistCommand]
 TOOLBAR = [c.NAME for c in COMMANDS]
 
 

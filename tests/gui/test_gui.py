@@ -21,7 +21,7 @@ REPO = os.path.dirname(os.path.dirname(HERE))
 TESTDATA = os.path.normpath(os.path.join(REPO, "..", "shared", "testdata"))
 OUT = os.path.join(HERE, "_out")
 SCENARIO = os.path.join(HERE, "freecad_scenario.py")
-TIMEOUT = 180  # seconds for the whole GUI run; it takes about 20 s
+TIMEOUT = 300  # seconds for the whole GUI run; it takes about 40 s
 
 
 def _tool(*names):
@@ -106,6 +106,15 @@ def test_all_checks_pass(gui_run):
     "one Stretch after OK", "valid single solid", "VolumeChange > 0", "one undo step",
     "undo removes the Stretch", "cancel: no new object", "cancel: Base visible",
     "edit cancel restores Distance", "reopen: view provider restored", "reopen: icon",
+    "toolbar: Stretch, Bend, Twist", "Bend/Twist active with the solid selected",
+    "Bend/Twist inactive with nothing selected", "Bend defaults: valid preview, no error",
+    "Bend: valid single solid", "Bend: VolumeChange = Pappus (OCCT volume)", "Bend: one undo step",
+    "Bend: undo removes it", "Bend: Cancel leaves the document unchanged",
+    "Pick axis: Axis on the edge's line, nearest to Plane's origin",
+    "Twist defaults: valid preview, no error", "Twist: valid single solid",
+    "Twist: mid section = the section turned by Angle/2", "Twist: one undo step",
+    "Twist: Cancel leaves the document unchanged",
+    "Twist from an edge: UseAxis, Axis on the edge, valid",
 ])
 def test_key_check(gui_run, name):
     found = [c for c in gui_run["checks"] if c["name"] == name]
@@ -119,6 +128,19 @@ def test_screenshots_written(gui_run, capsys):
         print(f"\nGUI run {gui_run['elapsed']:.1f} s; screenshots:")
         for path in shots:
             print(f"  {path}")
-    assert len(shots) == 6, shots
+    names = sorted(os.path.basename(p) for p in shots)
+    assert names == sorted([
+        "stretch_task_panel_error.png", "stretch_panel.png", "stretch_task_panel.png",
+        "stretch_window.png", "stretch_result.png", "stretch_reopened.png",
+        "bend_task_panel.png", "bend_result.png", "twist_task_panel.png",
+        "twist_result.png"]), names
     for path in shots:
-        assert os.path.getsize(path) > 10000, path
+        assert os.path.getsize(path) > 5000, path
+        assert _drawn_fraction(path) > 0.02, f"{path} is (nearly) blank"
+
+
+def _drawn_fraction(path):
+    """Share of pixels that differ from the white background (matplotlib reads the PNG)."""
+    from matplotlib import image
+    pixels = image.imread(path)[..., :3]
+    return float((pixels < 0.95).any(axis=-1).mean())

@@ -1,0 +1,125 @@
+"""Field groups the Deform task panels share.
+
+PlacementGroup shows a Placement property that stands for a point and a direction (Plane:
+origin and normal; Axis: point and direction) with Pick and Flip buttons; ResultsGroup
+shows the read-only outputs VolumeChange and Continuity. Widgets carry object names made
+from the property names (PlaneOriginX, AxisDirectionZ, PickAxis, VolumeChange, ...) so
+tests and macros find them.
+"""
+import FreeCAD as App
+from PySide import QtGui
+
+from ..shapes.convert import plane_placement
+from .task_panel import on_value_changed, quantity_spin_box, set_spin_value, spin_value
+
+Z = App.Vector(0, 0, 1)
+
+
+def direction_of(placement):
+    """The local Z of a Placement: a plane's normal, an axis's direction."""
+    return placement.Rotation.multVec(Z)
+
+
+class PlacementGroup:
+    """A group box titled with the property name: point x, y, z (lengths with units and
+    expressions), direction x, y, z (any length, normalized when set) and Pick / Flip.
+
+    The owner connects the handlers with connect() and shows values with show(); value()
+    reads the fields back as a Placement whose Base is the point and local Z the direction.
+    """
+
+    def __init__(self, prop, point, direction, tooltip, pick_text, pick_tip, flip_tip):
+        self.prop = prop
+        self.point_title, self.direction_title = point, direction
+        self.box = QtGui.QGroupBox(prop)
+        self.box.setObjectName(prop + "Group")
+        self.box.setToolTip(tooltip)
+        grid = QtGui.QGridLayout(self.box)
+        self.point = [quantity_spin_box("mm", name=f"{prop}{point}{c}") for c in "XYZ"]
+        self.direction = []
+        for c in "XYZ":
+            box = QtGui.QDoubleSpinBox()
+            box.setObjectName(f"{prop}{direction}{c}")
+            box.setRange(-1.0, 1.0)  # any length: the direction is normalized when set
+            box.setDecimals(6)
+            box.setSingleStep(0.1)
+            self.direction.append(box)
+        for first_row, title, boxes in ((0, point, self.point), (3, direction, self.direction)):
+            grid.addWidget(QtGui.QLabel(title), first_row, 0)
+            for i, (c, box) in enumerate(zip("xyz", boxes)):
+                grid.addWidget(QtGui.QLabel(c), first_row + i, 1)
+                grid.addWidget(box, first_row + i, 2, 1, 2)
+        self.pick_button = QtGui.QPushButton(pick_text)
+        self.pick_button.setObjectName("Pick" + prop)
+        self.pick_button.setToolTip(pick_tip)
+        self.flip_button = QtGui.QPushButton("Flip")
+        self.flip_button.setObjectName("Flip" + prop)
+        self.flip_button.setToolTip(flip_tip)
+        grid.addWidget(self.pick_button, 6, 0, 1, 3)
+        grid.addWidget(self.flip_button, 6, 3)
+        grid.setColumnStretch(2, 1)
+
+    def connect(self, on_edited, on_pick, on_flip):
+        for box in self.point:
+            on_value_changed(box, on_edited)
+        for box in self.direction:
+            box.valueChanged.connect(on_edited)
+        self.pick_button.clicked.connect(on_pick)
+        self.flip_button.clicked.connect(on_flip)
+
+    def show(self, placement):
+        for box, value in zip(self.point, placement.Base):
+            set_spin_value(box, value)
+        for box, value in zip(self.direction, direction_of(placement)):
+            box.setValue(value)
+
+    def value(self, current):
+        """The Placement the fields show. While the direction equals `current`'s, the
+        rotation about it is kept (a plane's in-plane orientation)."""
+        point = App.Vector(*(spin_value(b) for b in self.point))
+        direction = App.Vector(*(b.value() for b in self.direction))
+        if direction.Length < 1e-12:
+            raise ValueError(f"{self.prop} {self.direction_title.lower()} is zero; give "
+                             f"{self.prop} a direction.")
+        if direction.normalize().isEqual(direction_of(current), 1e-9):
+            return App.Placement(point, current.Rotation)
+        return plane_placement((point, direction), self.prop)
+
+    def setEnabled(self, enabled):
+        self.box.setEnabled(enabled)
+
+    def set_fields_enabled(self, enabled):
+        """Enable or disable the value fields and Flip, keeping Pick usable."""
+        for widget in self.point + self.direction + [self.flip_button]:
+            widget.setEnabled(enabled)
+
+
+class ResultsGroup:
+    """The read-only outputs of a split-sweep feature: VolumeChange and Continuity."""
+
+    def __init__(self, obj):
+        self.box = QtGui.QGroupBox("Result")
+        form = QtGui.QFormLayout(self.box)
+        self.volume_change = QtGui.QLineEdit()
+        self.volume_change.setObjectName("VolumeChange")
+        self.volume_change.setReadOnly(True)
+        self.volume_change.setToolTip(obj.getDocumentationOfProperty("VolumeChange"))
+        self.continuity = QtGui.QLineEdit()
+        self.continuity.setObjectName("Continuity")
+        self.continuity.setReadOnly(True)
+        self._continuity_doc = obj.getDocumentationOfProperty("Continuity")
+        self.continuity.setToolTip(self._continuity_doc)
+        form.addRow("VolumeChange", self.volume_change)
+        form.addRow("Continuity", self.continuity)
+
+    def show(self, obj):
+        self.volume_change.setText(f"{obj.VolumeChange:.6g} mm³")
+        self.volume_change.setCursorPosition(0)
+        self.continuity.setText(obj.Continuity or "-")
+        self.continuity.setCursorPosition(0)
+        self.continuity.setToolTip("\n".join((obj.Continuity or "-").split("; "))
+                                   + "\n\n" + self._continuity_doc)
+
+    def clear(self):
+        self.volume_change.clear()
+        self.continuity.clear()
