@@ -70,13 +70,13 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
                 near + brep.transformed(far, far_motion), [(origin, normal), far_joint])
         check_bend(np.vstack([brep.sample_points(f) for f in cut]), normal, axis_point,
                    axis_direction, angle)
-        if gap is None or brep.is_prismatic(zones[1], origin, normal, gap):
-            middle = brep.revolved(cut, axis_point, axis_direction, angle)
-        else:
+        if gap is not None and not brep.is_prismatic(zones[1], origin, normal, gap):
             fracs = np.linspace(0.0, 1.0, samples + 1)
-            profiles = ss.sections(zones[1], origin, normal, fracs * gap)
-            middle = brep.lofted([brep.transformed(p, turn_to(f)) for p, f in
-                                  zip(profiles, fracs)])
+            profiles = [brep.transformed(p, turn_to(f)) for p, f in
+                        zip(ss.sections(zones[1], origin, normal, fracs * gap), fracs)]
+            return ss.lofted_join(near, cut, profiles, far, (origin + gap * normal, normal),
+                                  far_motion, [(origin, normal), far_joint], "Angle")
+        middle = brep.revolved(cut, axis_point, axis_direction, angle)
         moved = brep.transformed(far, far_motion)
         brep.check_apart(near, moved, "Angle")
         return brep.join(near + middle + moved, [(origin, normal), far_joint], "Angle")

@@ -142,14 +142,21 @@ def sweep_solid(solid, origin, normal, motion, samples, prop="KeyPlacements"):
             raise DeformError(f"The path leaves Plane too obliquely: the profile at t = {t:.2g} "
                               f"reaches {-reach:.3g} mm behind Plane; change {prop} or "
                               f"Interpolation.", prop)
+    joints = [(origin, normal), (mo.apply(end, origin[None])[0], end[:3, :3] @ normal)]
+    return lofted_join(near, cut, profiles, far, (origin, normal), end, joints, prop)
+
+
+def lofted_join(near, cut, profiles, far, far_plane, end, joints, prop):
+    """One solid from the near pieces, the loft through `profiles` (from the near part's
+    `cut` faces to the far part's section at `far_plane`, moved by `end`) and the far
+    pieces: their faces sewn, the cut faces left out."""
     moved = brep.transformed(far, end)
     brep.check_apart(near, moved, prop)
-    far_cut = brep.faces_on_plane(far, origin, normal)
+    far_cut = brep.faces_on_plane(far, *far_plane)
     faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)]
              + brep.loft_sides(profiles, prop)
              + brep.transformed([f for s in far for f in s.Faces
                                  if not any(f.isSame(c) for c in far_cut)], end))
-    joints = [(origin, normal), (mo.apply(end, origin[None])[0], end[:3, :3] @ normal)]
     return brep.join_faces(faces, joints, prop)
 
 

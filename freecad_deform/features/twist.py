@@ -100,18 +100,17 @@ def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, s
 
     def solid_fn(solid):
         near, between, far = brep.split_zones(solid, origin, normal, [0.0, gap])
-        moved = brep.transformed(far, turn)
         cut = brep.faces_on_plane(near, origin, normal)
-        if not between:
-            return brep.join(near + moved, [(origin, normal), far_joint]) if near or far else None
+        if not between:  # this solid lies before Plane or beyond Plane2
+            return (near + brep.transformed(far, turn))[0]
         if cut and brep.is_prismatic(between, origin, normal, gap):
             profiles = [brep.transformed(brep.translated(cut, f * gap * normal), turn_to(f))
                         for f in fracs]
         else:
             profiles = [brep.transformed(p, turn_to(f)) for p, f in
                         zip(ss.sections(between, origin, normal, fracs * gap), fracs)]
-        middle = brep.lofted(profiles)
-        return brep.join(near + middle + moved, [(origin, normal), far_joint], "Angle")
+        return ss.lofted_join(near, cut, profiles, far, (origin + gap * normal, normal), turn,
+                              [(origin, normal), far_joint], "Angle")
 
     def loose_fn(parts):
         near, between, far = brep.split_loose(parts, origin, normal, [0.0, gap])

@@ -326,27 +326,6 @@ def _check_profiles(profiles, prop):
                           "has one outline.", "Plane2")
 
 
-def lofted(profiles, prop="Samples"):
-    """One solid through K profiles, each a list of faces with matching wires.
-
-    Every wire is lofted through its K copies; the loft of the outer wires minus those of
-    the holes gives the solid.
-    """
-    _check_profiles(profiles, prop)
-    solids = []
-    for k in range(len(profiles[0])):
-        faces = [p[k] for p in profiles]
-        outer = Part.makeLoft([f.OuterWire for f in faces], True, False)
-        holes = [Part.makeLoft([f.Wires[i] for f in faces], True, False)
-                 for i in range(len(faces[0].Wires)) if not faces[0].Wires[i].isSame(
-                     faces[0].OuterWire)]
-        solids.append(outer.cut(holes) if holes else outer)
-    for solid in solids:
-        if not solid.isValid():
-            raise DeformError(f"The loft through the profiles is not valid; change {prop}.", prop)
-    return solids
-
-
 def crossing_faces(shape, origin, normal):
     """Names and faces of `shape` that the plane cuts, in face order."""
     found = []
