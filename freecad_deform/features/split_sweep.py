@@ -91,8 +91,8 @@ def joint_report(shape, joints):
     """
     worst = {}
     for origin, normal, tangents, *keep in joints:
-        for name, face in brep.crossing_faces(shape, origin, normal):
-            points, normals = brep.joint_normals(face, origin, normal)
+        for name, face, edges in brep.crossing_faces(shape, origin, normal):
+            points, normals = brep.joint_normals(face, edges)
             if keep:
                 mask = keep[0](points)
                 points, normals = points[mask], normals[mask]

@@ -327,23 +327,22 @@ def _check_profiles(profiles, prop):
 
 
 def crossing_faces(shape, origin, normal):
-    """Names and faces of `shape` that the plane cuts, in face order."""
+    """(name, face, section edges) of the faces of `shape` the plane cuts, in face order."""
     found = []
     for i, face in enumerate(shape.Faces, start=1):
         lo, hi = extent(face, origin, normal)
-        if lo < -TOL and hi > TOL and _section_edges(face, origin, normal):
-            found.append((f"Face{i}", face))
+        if lo < -TOL and hi > TOL:
+            edges = [e for w in face.slice(vector(normal), float(np.dot(origin, normal)))
+                     for e in w.Edges]
+            if edges:
+                found.append((f"Face{i}", face, edges))
     return found
 
 
-def _section_edges(face, origin, normal):
-    return [e for w in face.slice(vector(normal), float(np.dot(origin, normal))) for e in w.Edges]
-
-
-def joint_normals(face, origin, normal, samples=7):
-    """Points and unit surface normals of `face` along its intersection with the plane."""
+def joint_normals(face, edges, samples=7):
+    """Points and unit surface normals of `face` along its section `edges`."""
     points, normals = [], []
-    for edge in _section_edges(face, origin, normal):
+    for edge in edges:
         for t in np.linspace(edge.FirstParameter, edge.LastParameter, samples):
             p = edge.valueAt(t)
             uv = face.Surface.parameter(p)
