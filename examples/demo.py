@@ -1,4 +1,4 @@
-"""The `make demo` job: Stretch features on real models, exported, pictured and checked.
+"""The `make demo` job: Stretch, Bend and Twist features on real models, exported, pictured and checked.
 
     /usr/bin/python3 examples/demo.py [OUTPUT_DIR]        # default: <repo>/demo_out/
     DEFORM_DEMO_OUT=/tmp/out freecadcmd examples/demo.py   # freecadcmd takes no script options
@@ -10,11 +10,18 @@ Builds one document from ../shared/testdata (relative to the repo root):
   MeshStretch  a mesh of the part, stretched like Stretch
   CloudStretch a point cloud sampled on the part, stretched like Stretch
   AS1Stretch   the AS1 assembly (18 solids) stretched by 800 mm along +X at x = 400
+  Bend         the sample part bent by -60 deg at x = 150 about an axis in the plane (exact revolve)
+  TwoPlaneBend the region between x = 90 and x = 140 bent by -60 deg, its cross-section kept
+  Twist        a 60 x 20 x 150 bar twisted by 90 deg between z = 40 and z = 110
+  MeshBend     the mesh of the part, bent like Bend
+  BladeStretch a turbine-blade-like point cloud (Wu & Ilies, Fig. 9): its airfoil extended 3x
+  BladeTwist   ... then twisted by 30 deg, the centroids of its cross-sections on the vertical
 
 Writes demo.FCStd, one STEP per solid result, STL for the meshes, PLY for the clouds,
 before/after PNGs and report.md / report.json. Every invariant is measured against an
 independent oracle (a section's area from Shape.slice, a common with a box, the normals
-of the base's faces, an edge count of the mesh, a nearest-neighbour query). The job exits
+of the base's faces, an edge count of the mesh, a nearest-neighbour query, Pappus' theorem,
+rotations written out with Rodrigues' formula, point means per layer). The job exits
 with status 1 if any of them fails (a feature that raises counts as a failed check; the
 others still run and the report is written); "warn" marks a quality expectation that is
 reported but does not fail the job.
@@ -41,17 +48,42 @@ from scipy.spatial import cKDTree  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 
 V = App.Vector
-X, Z = np.array([1.0, 0, 0]), np.array([0, 0, 1.0])
+X, Y, Z = np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), np.array([0, 0, 1.0])
 REL = 1e-6          # relative tolerance of an exact B-rep volume against its oracle
+REVOLUTION = {"Plane", "Cylinder", "Cone", "Toroid", "Sphere", "SurfaceOfRevolution"}
 
 
 # ---------------------------------------------------------------------------- oracles
 
 def section_area(shape, origin, normal):
     """Area of the shape's cross-section in the plane: Shape.slice wires made into faces."""
+    face = section_face(shape, origin, normal)
+    return face.Area if face is not None else 0.0
+
+
+def section_face(shape, origin, normal):
+    """The shape's cross-section in the plane (Shape.slice wires made into faces), or None."""
     n = V(*normal).normalize()
     wires = shape.slice(n, n.dot(V(*origin)))
-    return Part.makeFace(wires, "Part::FaceMakerBullseye").Area if wires else 0.0
+    return Part.makeFace(wires, "Part::FaceMakerBullseye") if wires else None
+
+
+def pappus(face, axis_point, axis_direction, angle):
+    """(volume, centroid radius): the solid the planar face sweeps turning by `angle` degrees
+    about the axis, by Pappus' theorem: area x centroid radius x angle in radians."""
+    w = np.asarray(axis_direction, float) / np.linalg.norm(axis_direction)
+    radius = float(np.linalg.norm(np.cross(np.array(tuple(face.CenterOfMass)) - axis_point, w)))
+    return face.Area * radius * abs(np.radians(angle)), radius
+
+
+def rodrigues(points, axis_point, axis_direction, angle):
+    """Points turned by `angle` degrees (one angle, or one per point) about the axis, right-hand
+    rule: Rodrigues' formula v cos a + (w x v) sin a + w (w . v)(1 - cos a), written out."""
+    w = np.asarray(axis_direction, float) / np.linalg.norm(axis_direction)
+    c = np.asarray(axis_point, float)
+    a = np.radians(np.asarray(angle, float))[..., None]
+    v = np.asarray(points, float).reshape(-1, 3) - c
+    return c + v * np.cos(a) + np.cross(w, v) * np.sin(a) + np.outer(v @ w, w) * (1 - np.cos(a))
 
 
 def slab_volume(shape, origin, normal, width):
@@ -62,9 +94,10 @@ def slab_volume(shape, origin, normal, width):
     return shape.common(box).Volume
 
 
-def lemma1(shape, planes, normal):
-    """{face name: "G1"/"C0"} by hand: the normal of each face a plane cuts, at the middle of
-    its section edges, against the motion (G1 when perpendicular)."""
+def lemma1(shape, planes, normal, tangent=None, fractions=(0.5,)):
+    """{face name: "G1"/"C0"} by hand: the normal of each face a plane cuts, at `fractions` of
+    its section edges (the middle by default), against the motion (G1 when perpendicular).
+    tangent(point) is the trajectory's direction there; default the normal (a translation)."""
     found = {}
     for origin in planes:
         d = float(np.dot(origin, normal))
@@ -75,9 +108,11 @@ def lemma1(shape, planes, normal):
                 continue
             kinds = []
             for e in edges:
-                p = e.valueAt(0.5 * (e.FirstParameter + e.LastParameter))
-                nrm = np.array(tuple(face.normalAt(*face.Surface.parameter(p))))
-                kinds.append("G1" if abs(nrm @ normal) < 1e-6 else "C0")
+                for f in fractions:
+                    p = e.valueAt(e.FirstParameter + f * (e.LastParameter - e.FirstParameter))
+                    nrm = np.array(tuple(face.normalAt(*face.Surface.parameter(p))))
+                    t = normal if tangent is None else tangent(np.array(tuple(p)))
+                    kinds.append("G1" if abs(nrm @ t) < 1e-6 * np.linalg.norm(t) else "C0")
             name = f"Face{i}"
             found[name] = "C0" if "C0" in kinds + [found.get(name)] else "G1"
     return found
@@ -93,15 +128,25 @@ def _extent(shape, normal):
 
 def mesh_section_area(mesh, origin, normal):
     """Shoelace area of the mesh's cross-section polylines (Mesh.crossSections)."""
+    return mesh_section(mesh, origin, normal)[0]
+
+
+def mesh_section(mesh, origin, normal):
+    """(area, centroid) of the mesh's cross-section polylines (Mesh.crossSections), by the
+    shoelace formula; holes count negative by their orientation."""
     u = np.cross([0, 0, 1], normal) if abs(normal[2]) < 0.9 else np.cross([1, 0, 0], normal)
     u /= np.linalg.norm(u)
     w = np.cross(normal, u)
-    total = 0.0
+    total, moment = 0.0, np.zeros(2)
     for polyline in mesh.crossSections([(V(*origin), V(*normal))])[0]:
         p = np.array([tuple(q) for q in polyline]) - origin
         x, y = p @ u, p @ w
-        total += 0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
-    return abs(total)
+        x1, y1 = np.roll(x, -1), np.roll(y, -1)
+        cross = x * y1 - x1 * y
+        total += 0.5 * cross.sum()
+        moment += [((x + x1) * cross).sum() / 6, ((y + y1) * cross).sum() / 6]
+    centroid = origin + (moment[0] * u + moment[1] * w) / total if total else origin
+    return abs(total), centroid
 
 
 def mesh_volume(mesh):
@@ -351,12 +396,49 @@ def stretch_checks(rep, base_shape, obj, origin, normal, distance):
     continuity_check(rep, base_shape, obj, [origin], normal)
 
 
-def continuity_check(rep, base_shape, obj, planes, normal):
+def continuity_check(rep, base_shape, obj, planes, normal, **trajectory):
+    """The object's Continuity against lemma1 by hand; `trajectory`: lemma1's tangent and
+    fractions, for a motion that is not a translation along the normal."""
     entries = dict(e.split(": ") for e in obj.Continuity.split("; ")) if obj.Continuity else {}
     rep.check("Continuity report (Lemma 1) = face normals at the section, by hand",
-              entries, lemma1(base_shape, planes, normal))
+              entries, lemma1(base_shape, planes, normal, **trajectory))
     rep.check("SplitFaces = the faces the plane(s) cut", list(obj.SplitFaces),
               sorted(entries, key=lambda name: int(name[4:])))
+
+
+def bend_tangent(origin, normal, axis_point, axis_direction):
+    """Trajectory direction at a joint point p of a bend: w x (q - c), q the point p brought
+    back onto Plane (a point on Plane2 is where the plane's point was before the shift)."""
+    w = np.asarray(axis_direction, float) / np.linalg.norm(axis_direction)
+    return lambda p: np.cross(w, p - ((p - origin) @ normal) * normal - axis_point)
+
+
+def rigid_check(rep, base_shape, result, origin, normal, far_motion, gap=0.0):
+    """The base's vertices before Plane kept, those beyond Plane2 (Plane when gap = 0) moved by
+    far_motion(points): each must be a vertex of the result (nearest-neighbour distance)."""
+    before = points_of([v.Point for v in base_shape.Vertexes])
+    s = (before - origin) @ normal
+    expected = np.vstack([before[s < -1e-9], far_motion(before[s > gap + 1e-9])])
+    dist = _nearest(points_of([v.Point for v in result.Vertexes]), expected)
+    rep.check("vertices before the plane kept, beyond it moved rigidly (the rotation written "
+              "out): max distance to the nearest result vertex, mm", dist, 0.0, ok=dist < 1e-7)
+
+
+def _nearest(points, expected):
+    """The largest distance from an expected point to the nearest of `points`."""
+    return float(cKDTree(points).query(expected)[0].max()) if len(expected) else 0.0
+
+
+def _turn(before, after):
+    """Angle (degrees) of the rotation about the origin that best maps the 2-D points `before`
+    onto `after` (Procrustes: atan2 of the summed cross and dot products)."""
+    a, b = before - before.mean(axis=0), after - after.mean(axis=0)
+    return float(np.degrees(np.arctan2((a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum(),
+                                       (a * b).sum())))
+
+
+def _count(obj):
+    return obj.Mesh.CountFacets if hasattr(obj, "Mesh") else obj.Points.CountPoints
 
 
 def _box(shape, shift=np.zeros(3)):
@@ -381,6 +463,7 @@ class Demo:
             if not os.path.isfile(path):
                 sys.exit(f"test model {path} is missing; set DEFORM_TESTDATA")
         self.doc = App.newDocument("DeformDemo")
+        self.mesh_base = None
         self.shape = Part.read(self.sample_path)
         self.base = self.doc.addObject("Part::Feature", "SamplePart")
         self.base.Shape = self.shape
@@ -398,11 +481,19 @@ class Demo:
 
     def create(self, label, base, plane, distance, **options):
         """make_stretch, timed; then the recompute alone, timed; the object."""
-        obj, t = timed(lambda: fd.make_stretch(base, plane, distance, **options))
+        return self.make(label, "make_stretch",
+                         lambda: fd.make_stretch(base, plane, distance, **options))
+
+    def make(self, label, maker, fn, check="recomputed without error"):
+        """fn() (a make_* call named `maker`), timed; then the recompute alone, timed; the
+        object. An object in error fails a check, and the section stops there."""
+        obj, t = timed(fn)
         obj.Label = label
-        self.rep.check("recomputed without error",
-                       obj.getStatusString() if "Invalid" in obj.State else "ok", "ok")
-        self.timings[f"{label}: make_stretch (create + recompute)"] = t
+        status = obj.getStatusString() if "Invalid" in obj.State else "ok"
+        self.rep.check(check, status, "ok")
+        if status != "ok":
+            raise RuntimeError(f"{label} is in error: {status}")
+        self.timings[f"{label}: {maker} (create + recompute)"] = t
         self.timings[f"{label}: recompute"] = recompute_time(self.doc, obj)
         return obj
 
@@ -511,7 +602,7 @@ class Demo:
         origin, normal, distance = np.array([150.0, 0, 0]), X, 40.0
         rep.section("MeshStretch", "A mesh of the part (MeshPart.meshFromShape, MaxLength 12 mm) "
                     "stretched by 40 mm along +X at x = 150.")
-        mesh_base = self.doc.addObject("Mesh::Feature", "SampleMesh")
+        self.mesh_base = mesh_base = self.doc.addObject("Mesh::Feature", "SampleMesh")
         mesh_base.Mesh = MeshPart.meshFromShape(Shape=shape, MaxLength=12)
         obj = self.create("MeshStretch", mesh_base, (V(*origin), V(*normal)), distance)
         mesh, before = obj.Mesh, mesh_base.Mesh
@@ -615,18 +706,281 @@ class Demo:
                      [solid_panel(as1, "before"), solid_panel(result, "after")],
                      [(origin, normal)], [(origin, normal), (origin + distance * normal, normal)])
 
-    # -- 7. save, reopen, recompute: the same results
+    # -- 7. bend at x = 150 by -60 deg about an axis in the plane
+    def bend(self):
+        rep, shape = self.rep, self.shape
+        origin, normal, angle = np.array([150.0, 0, 0]), X, -60.0
+        axis = (np.array([150.0, 0, 260]), Y)
+        rep.section("Bend", "The sample part bent at the plane x = 150 by -60 deg about the axis "
+                    "through (150, 0, 260) along +Y: the axis lies in the plane, 35 mm above the "
+                    "part, so the part beyond the plane swings up and the gap is the section "
+                    "revolved (exact).")
+        obj = self.make("Bend", "make_bend", lambda: fd.make_bend(
+            self.base, (V(*origin), V(*normal)), angle, (V(*axis[0]), V(*axis[1]))))
+        result = obj.Shape
+        sec = section_face(shape, origin, normal)
+        volume, radius = pappus(sec, *axis, angle)
+        rep.fact("faces before / after", f"{len(shape.Faces)} / {len(result.Faces)}")
+        rep.fact("section at x = 150 (Shape.slice): area (mm^2) / centroid radius (mm)",
+                 f"{sec.Area:.6g} / {radius:.6g}")
+        rep.fact("VolumeChange (mm^3)", obj.VolumeChange)
+        rep.fact("Continuity", obj.Continuity)
+        rep.fact("face types after", face_type_counts(result))
+        rep.check("VolumeChange = section area x centroid radius x angle (Pappus)",
+                  obj.VolumeChange, volume, rel=REL)
+        rep.check("Volume(result) - Volume(base) = Pappus", result.Volume - shape.Volume, volume,
+                  rel=REL)
+        rep.check("isValid()", result.isValid(), True)
+        rep.check("number of solids", len(result.Solids), 1)
+        rep.check("face types other than planes, cylinders, cones, tori, spheres and surfaces of "
+                  "revolution", sorted(set(face_types(result)) - REVOLUTION), [],
+                  note="a revolve is exact: no B-spline")
+        rigid_check(rep, shape, result, origin, normal, lambda p: rodrigues(p, *axis, angle))
+        mid = rodrigues(normal, np.zeros(3), axis[1], angle / 2)[0]
+        rep.check("section area at half the angle (the plane through the axis turned by -30 deg)",
+                  section_area(result, axis[0], mid), sec.Area, rel=REL)
+        continuity_check(rep, shape, obj, [origin], normal,
+                         tangent=bend_tangent(origin, normal, *axis))
+        self.export_step(obj, "bend.step")
+        self.picture("bend.png", "Bend: -60 deg at x = 150 about the axis through (150, 0, 260) "
+                     "along +Y", [solid_panel(shape, "before"), solid_panel(result, "after")],
+                     [(origin, normal)], [(origin, normal)])
+
+    # -- 8. two planes: the slab x = 90 .. 140 bent by -60 deg
+    def two_plane_bend(self):
+        rep, shape = self.rep, self.shape
+        o1, o2, normal, angle, gap = np.array([90.0, 0, 0]), np.array([140.0, 0, 0]), X, -60.0, 50.0
+        axis = (np.array([90.0, 0, 260]), Y)
+        rep.section("TwoPlaneBend", "The region between x = 90 and x = 140 (one constant "
+                    "cross-section) bent by -60 deg about the axis through (90, 0, 260) along +Y, "
+                    "in Plane: the slab becomes the section revolved, its cross-section kept, and "
+                    "the part beyond x = 140 turns with its end.")
+        obj = self.make("TwoPlaneBend", "make_bend", lambda: fd.make_bend(
+            self.base, (V(*o1), V(*normal)), angle, (V(*axis[0]), V(*axis[1])),
+            plane2=(V(*o2), V(*normal))))
+        result = obj.Shape
+        sec = section_face(shape, o1, normal)
+        volume, radius = pappus(sec, *axis, angle)
+        slab = slab_volume(shape, o1, normal, gap)
+        rep.fact("section at x = 90: area (mm^2) / centroid radius (mm)",
+                 f"{sec.Area:.6g} / {radius:.6g}")
+        rep.fact("VolumeChange (mm^3)", obj.VolumeChange)
+        rep.fact("Continuity", obj.Continuity)
+        rep.fact("face types after", face_type_counts(result))
+        rep.check("section area at Plane2 = at Plane (the region between is prismatic)",
+                  section_area(shape, o2, normal), sec.Area, rel=1e-9)
+        rep.check("VolumeChange = Pappus (section revolved) - volume between the planes "
+                  "(a common with a box)", obj.VolumeChange, volume - slab, rel=REL)
+        rep.check("isValid()", result.isValid(), True)
+        rep.check("number of solids", len(result.Solids), 1)
+        rep.check("face types other than planes, cylinders, cones, tori, spheres and surfaces of "
+                  "revolution", sorted(set(face_types(result)) - REVOLUTION), [],
+                  note="a prismatic region is revolved exactly")
+        rigid_check(rep, shape, result, o1, normal,
+                    lambda p: rodrigues(p - gap * normal, *axis, angle), gap=gap)
+        for frac in (0.25, 0.5, 0.8):
+            turned = rodrigues(normal, np.zeros(3), axis[1], frac * angle)[0]
+            rep.check(f"section area at {frac:g} of the angle (the plane through the axis turned "
+                      f"by {frac * angle:g} deg)", section_area(result, axis[0], turned), sec.Area,
+                      rel=REL)
+        continuity_check(rep, shape, obj, [o1, o2], normal, tangent=bend_tangent(o1, normal, *axis))
+        self.export_step(obj, "two_plane_bend.step")
+        self.picture("two_plane_bend.png", "TwoPlaneBend: x = 90 .. 140 bent by -60 deg about the "
+                     "axis through (90, 0, 260) along +Y",
+                     [solid_panel(shape, "before"), solid_panel(result, "after")],
+                     [(o1, normal), (o2, normal)], [(o1, normal)])
+
+    # -- 9. a bar twisted by 90 deg between two planes
+    def twist(self):
+        rep = self.rep
+        bar = Part.makeBox(60, 20, 150)
+        o1, o2, normal, angle, gap = np.array([0, 0, 40.0]), np.array([0, 0, 110.0]), Z, 90.0, 70.0
+        axis = (np.array([30.0, 10.0, 0.0]), Z)   # the section's centroid: the default axis
+        rep.section("Twist", "A 60 x 20 x 150 mm bar twisted by 90 deg between z = 40 and z = 110 "
+                    "about the default axis (the Plane normal through the centroid of the section "
+                    "at Plane, x = 30, y = 10), Samples 16: the sections between turn "
+                    "progressively, the part above z = 110 turns rigidly, the length is kept.")
+        base = self.doc.addObject("Part::Feature", "Bar")
+        base.Shape = bar
+        obj = self.make("Twist", "make_twist", lambda: fd.make_twist(
+            base, (V(*o1), V(*normal)), (V(*o2), V(*normal)), angle))
+        result = obj.Shape
+        rep.fact("faces before / after", f"{len(bar.Faces)} / {len(result.Faces)}")
+        rep.fact("VolumeChange (mm^3)", obj.VolumeChange)
+        rep.fact("Continuity", obj.Continuity)
+        rep.fact("face types after", face_type_counts(result))
+        rep.check("volume kept (a loft through 17 profiles)", result.Volume, bar.Volume, rel=1e-3)
+        rep.check("|VolumeChange| <= 1e-3 x volume", obj.VolumeChange, 0.0,
+                  ok=abs(obj.VolumeChange) <= 1e-3 * bar.Volume)
+        rep.check("isValid()", result.isValid(), True)
+        rep.check("number of solids", len(result.Solids), 1)
+        for frac in (0.25, 0.5, 0.8):
+            z = o1 + frac * gap * normal
+            rep.check(f"section area at {frac:g} of the span (z = {z[2]:g}"
+                      f"{', mid-span' if frac == 0.5 else ''})", section_area(result, z, normal),
+                      section_area(bar, z, normal), rel=1e-3)
+        centre = o1 + 0.5 * gap * normal
+        mid = points_of([v.Point for v in section_face(result, centre, normal).Vertexes])
+        corners = points_of([v.Point for v in section_face(bar, centre, normal).Vertexes])
+        err = _nearest(mid, rodrigues(corners, *axis, angle / 2))
+        rep.check("mid-span section corners = the bar's corners turned by 45 deg (Rodrigues): "
+                  "max distance, mm", err, 0.0, ok=len(mid) == 4 and err < 1e-6,
+                  note="profile 8 of 16 lies there")
+        rep.check("length along Z kept", result.BoundBox.ZLength, bar.BoundBox.ZLength, rel=1e-9)
+        rigid_check(rep, bar, result, o1, normal, lambda p: rodrigues(p, *axis, angle), gap=gap)
+        continuity_check(rep, bar, obj, [o1, o2], normal, fractions=np.linspace(0.05, 0.95, 7),
+                         tangent=lambda p: normal + np.radians(angle) / gap * np.cross(
+                             axis[1], p - axis[0]))
+        self.export_step(base, "bar.step")
+        self.export_step(obj, "twist.step")
+        self.picture("twist.png", "Twist: a 60 x 20 x 150 bar, 90 deg between z = 40 and z = 110",
+                     [solid_panel(bar, "before"), solid_panel(result, "after")],
+                     [(o1, normal), (o2, normal)], [(o1, normal), (o2, normal)], (18, -60))
+
+    # -- 10. the mesh of the part, bent like Bend
+    def mesh_bend(self):
+        import MeshPart
+        rep = self.rep
+        origin, normal, angle, samples = np.array([150.0, 0, 0]), X, -60.0, 16
+        axis = (np.array([150.0, 0, 260]), Y)
+        rep.section("MeshBend", f"The mesh of the part (SampleMesh: MeshPart, MaxLength 12 mm) "
+                    f"bent like Bend, -60 deg at x = 150 about (150, 0, 260) along +Y: the far "
+                    f"part turned, the gap the section ring turned through {samples} steps "
+                    f"(Samples).")
+        if self.mesh_base is None:
+            self.mesh_base = self.doc.addObject("Mesh::Feature", "SampleMesh")
+            self.mesh_base.Mesh = MeshPart.meshFromShape(Shape=self.shape, MaxLength=12)
+        mesh_base = self.mesh_base
+        obj = self.make("MeshBend", "make_bend", lambda: fd.make_bend(
+            mesh_base, (V(*origin), V(*normal)), angle, (V(*axis[0]), V(*axis[1]))))
+        mesh, before = obj.Mesh, mesh_base.Mesh
+        area, centroid = mesh_section(before, origin, normal)
+        radius = float(np.linalg.norm(np.cross(centroid - axis[0], axis[1])))
+        a = abs(np.radians(angle))
+        change = mesh_volume(mesh) - mesh_volume(before)
+        rep.fact("facets before / after", f"{before.CountFacets} / {mesh.CountFacets}")
+        rep.fact("mesh section at x = 150 (Mesh.crossSections): area (mm^2) / centroid radius "
+                 "(mm)", f"{area:.6g} / {radius:.6g}")
+        rep.fact("VolumeChange (mm^3)", obj.VolumeChange)
+        rep.check(f"volume change (float64 sum over the facets) = mesh section area x centroid "
+                  f"radius x {samples} sin(angle / {samples}) (Pappus along the {samples} chords "
+                  f"of the arc)", change, area * radius * samples * np.sin(a / samples), rel=1e-4)
+        rep.check(f"volume change = Pappus with the exact arc (the {samples} chords fall short by "
+                  f"1 - sin(x)/x = {1 - np.sin(a / samples) / (a / samples):.1e})", change,
+                  area * radius * a, rel=1e-3)
+        rep.check("VolumeChange = the float64 volume change", obj.VolumeChange, change, rel=1e-5,
+                  warn=True, note="Mesh.Volume sums in float32")
+        rep.check("mesh.isSolid() (closed)", mesh.isSolid(), True)
+        rep.check("mesh.hasNonManifolds()", mesh.hasNonManifolds(), False)
+        rep.check("every edge shared by two facets, opposite directions (numpy edge count)",
+                  edge_manifold(mesh), True)
+        rep.check("mesh.countComponents()", mesh.countComponents(), before.countComponents())
+        v0, v1 = points_of(before.Topology[0]), points_of(mesh.Topology[0])
+        v0 = v0[np.unique(np.array(before.Topology[1], int))]   # MeshPart leaves unused points
+        s = (v0 - origin) @ normal
+        expected = np.vstack([v0[s < -1e-6], rodrigues(v0[s > 1e-6], *axis, angle)])
+        moved = _nearest(v1, expected)
+        rep.check("facet corners before the plane kept, beyond it turned (Rodrigues): max "
+                  "distance to the nearest result vertex, mm", moved, 0.0, ok=moved < 1e-4,
+                  note="float32 storage")
+        mesh.write(os.path.join(self.out, "mesh_bend.stl"))
+        self.exports.append("mesh_bend.stl")
+        panels = []
+        for label, m in (("before", before), ("after", mesh)):
+            points, facets = m.Topology
+            panels.append((label, "mesh", (points_of(points), np.array(facets, int))))
+        self.picture("mesh_bend.png", "MeshBend: -60 deg at x = 150 about the axis through "
+                     "(150, 0, 260) along +Y", panels, [(origin, normal)], [(origin, normal)])
+
+    # -- 11. the paper's turbine blade (Fig. 9): extended 3x, then twisted by 30 deg
+    def blade(self):
+        rep = self.rep
+        span, distance, angle = 100.0, 200.0, 30.0
+        rep.section("Blade: Stretch, then Twist", "Wu & Ilies' turbine-blade example (Fig. 9) on "
+                    "a point cloud: a blade-like cloud (a root platform, a cambered, tapered, "
+                    "pre-twisted airfoil stacked along Z from z = 0 to 100, a tip shroud; every "
+                    "horizontal layer's points centred on x = y = 0) whose airfoil is extended "
+                    "3x (BladeStretch: two planes z = 0 and z = 100, Distance 200) and then "
+                    "twisted by 30 deg (BladeTwist on BladeStretch: planes z = 0 and z = 300, "
+                    "default axis) so the centroids of the horizontal cross-sections stay on "
+                    "the vertical line.")
+        cloud, layer = blade_cloud(span)
+        base = self.doc.addObject("Points::Feature", "BladeCloud")
+        base.Points = Points.Points([V(*p) for p in cloud.tolist()])
+        cloud = points_of(base.Points.Points)  # as stored (float32)
+        stretch = self.make("BladeStretch", "make_stretch", lambda: fd.make_stretch(
+            base, (V(0, 0, 0), V(*Z)), distance, plane2=(V(0, 0, span), V(*Z))),
+            "BladeStretch recomputed without error")
+        top = span + distance
+        twist = self.make("BladeTwist", "make_twist", lambda: fd.make_twist(
+            stretch, (V(0, 0, 0), V(*Z)), (V(0, 0, top), V(*Z)), angle),
+            "BladeTwist (its Base: BladeStretch) recomputed without error")
+        stretched, twisted = points_of(stretch.Points.Points), points_of(twist.Points.Points)
+        airfoil = (cloud[:, 2] >= -1e-9) & (cloud[:, 2] <= span + 1e-9)
+        rep.fact("points / layers (airfoil layers)",
+                 f"{len(cloud):,} / {layer.max() + 1} ({len(np.unique(layer[airfoil]))})")
+        rep.check("points kept by the Stretch and by the Twist", [len(stretched), len(twisted)],
+                  [len(cloud), len(cloud)])
+        rep.check("airfoil span (z of its top layer - z of its root layer) extended 3x",
+                  float(np.ptp(stretched[airfoil, 2])), 3 * float(np.ptp(cloud[airfoil, 2])),
+                  rel=1e-6)
+        # the two maps written out: z scaled between the planes, then each layer turned about
+        # the vertical line x = y = 0 by angle x (its height / the new span)
+        z = cloud[:, 2]
+        expected_s = cloud + np.outer(np.clip(z / span, 0, 1) * distance, Z)
+        expected_t = rodrigues(expected_s, np.zeros(3), Z,
+                               angle * np.clip(expected_s[:, 2] / top, 0, 1))
+        err_s = float(np.abs(stretched - expected_s).max())
+        err_t = float(np.abs(twisted - expected_t).max())
+        rep.check("every point where the two-plane stretch puts it (z scaled by 3 between the "
+                  "planes, the shroud moved up 200): max error, mm", err_s, 0.0, ok=err_s < 1e-3,
+                  note="float32 storage")
+        rep.check("every point turned by 30 deg x its height / 300 about the vertical x = y = 0 "
+                  "(Rodrigues): max error, mm", err_t, 0.0, ok=err_t < 1e-3, note="float32 storage")
+        drift = max(float(np.linalg.norm(twisted[layer == k, :2].mean(axis=0)))
+                    for k in range(layer.max() + 1))
+        rep.fact("largest centroid offset of a layer before, mm",
+                 max(float(np.linalg.norm(cloud[layer == k, :2].mean(axis=0)))
+                     for k in range(layer.max() + 1)))
+        rep.check("centroid of every horizontal cross-section (the mean of its layer's points) "
+                  "on the vertical line x = y = 0 after both edits: largest offset, mm", drift,
+                  0.0, ok=drift < 1e-4, note="float32 storage")
+        turns = np.array([_turn(cloud[layer == k, :2], twisted[layer == k, :2])
+                          for k in range(layer.max() + 1)])
+        heights = np.array([twisted[layer == k, 2].mean() for k in range(layer.max() + 1)])
+        want = angle * np.clip(heights / top, 0, 1)
+        rep.check("each layer turned as a rigid cross-section by 30 deg x height / 300 (2-D "
+                  "Procrustes fit): largest error, deg", float(np.abs(turns - want).max()), 0.0,
+                  ok=float(np.abs(turns - want).max()) < 1e-3)
+        rep.check("root platform kept (bit-identical)", bool(np.array_equal(
+            twisted[cloud[:, 2] < 0], cloud[cloud[:, 2] < 0])), True)
+        shroud = cloud[:, 2] > span
+        err = float(np.abs(twisted[shroud] - rodrigues(cloud[shroud] + distance * Z, np.zeros(3),
+                                                       Z, angle)).max())
+        rep.check("tip shroud moved up by 200 and turned by 30 deg: max error, mm", err, 0.0,
+                  ok=err < 1e-3)
+        base.Points.write(os.path.join(self.out, "blade_cloud.ply"))
+        twist.Points.write(os.path.join(self.out, "blade_twist.ply"))
+        self.exports += ["blade_cloud.ply", "blade_twist.ply"]
+        self.picture("blade.png", "Blade: airfoil extended 3x (BladeStretch), then twisted by "
+                     "30 deg (BladeTwist)", [("before", "points", cloud),
+                                             ("after", "points", twisted)],
+                     [(np.zeros(3), Z), (span * Z, Z)], [(np.zeros(3), Z), (top * Z, Z)], (32, -60))
+
+    # -- 12. save, reopen, recompute: the same results
     def reopen(self):
         rep, doc = self.rep, self.doc
         rep.section("Document", "demo.FCStd saved, closed, reopened and recomputed.")
         path = os.path.join(self.out, "demo.FCStd")
         volumes = {o.Name: o.Shape.Volume for o in doc.Objects if o.TypeId == "Part::FeaturePython"}
+        counts = {o.Name: _count(o) for o in doc.Objects
+                  if o.TypeId in ("Mesh::FeaturePython", "Points::FeaturePython")}
         names = [o.Name for o in doc.Objects]
         doc.saveAs(path)
         App.closeDocument(doc.Name)
         self.doc = doc = App.openDocument(path)
         for o in doc.Objects:
-            if o.Name in volumes:
+            if o.Name in volumes or o.Name in counts:
                 o.touch()
         doc.recompute()
         rep.check("objects after reopening", [o.Name for o in doc.Objects], names)
@@ -635,6 +989,10 @@ class Demo:
         for name, volume in volumes.items():
             rep.check(f"{doc.getObject(name).Label}: volume after reopen + recompute",
                       doc.getObject(name).Shape.Volume, volume, rel=1e-9)
+        for name, count in counts.items():
+            obj = doc.getObject(name)
+            rep.check(f"{obj.Label}: {'facets' if hasattr(obj, 'Mesh') else 'points'} after "
+                      f"reopen + recompute", _count(obj), count)
 
 
 def run(out):
@@ -642,14 +1000,16 @@ def run(out):
     t_start = time.perf_counter()
     demo = Demo(out)
     for section in (demo.one_plane, demo.two_planes, demo.shrink, demo.mesh, demo.cloud,
-                    demo.assembly, demo.reopen):
+                    demo.assembly, demo.bend, demo.two_plane_bend, demo.twist, demo.mesh_bend,
+                    demo.blade, demo.reopen):
         demo.guarded(section)
     if demo.doc.Name in App.listDocuments():
         App.closeDocument(demo.doc.Name)
     rep, timings = demo.rep, demo.timings
     checks = sum(len(s["checks"]) for s in rep.sections)
     total = time.perf_counter() - t_start
-    header = (f"# Deform demo: Stretch\n\nFreeCAD {'.'.join(App.Version()[:3])}, OCCT "
+    header = (f"# Deform demo: Stretch, Bend and Twist\n\n"
+              f"FreeCAD {'.'.join(App.Version()[:3])}, OCCT "
               f"{Part.OCC_VERSION}, numpy {np.__version__}. {checks} checks, {rep.failed} failed, "
               f"{rep.warned} warned. Total {total:.1f} s.\n\nFiles: demo.FCStd, "
               + ", ".join(demo.exports) + ", and a before/after PNG per feature.\n\n"
@@ -675,6 +1035,45 @@ def surface_samples(shape, count, seed=0):
     pick = rng.choice(len(triangles), size=count, p=area / area.sum())
     r1, r2 = np.sqrt(rng.random(count))[:, None], rng.random(count)[:, None]
     return (1 - r1) * p0[pick] + r1 * (1 - r2) * p1[pick] + r1 * r2 * p2[pick]
+
+
+def blade_cloud(span=100.0, step=1.0, per_layer=240):
+    """A turbine-blade-like point cloud, as stacked horizontal outlines (a scan's layers):
+    a root platform (z = -10 .. -2), an airfoil from z = 0 to `span` every `step` (a NACA
+    4-digit-like section, 5 % camber at 40 %, 14 % thick, the chord tapering from 48 to 36 mm,
+    pre-twisted from 25 to 50 deg) and a tip shroud (z = span + 2 .. span + 6). Every layer's
+    points are centred on x = y = 0. Returns (points (N, 3), layer index of each point)."""
+    def airfoil(chord, stagger):
+        beta = np.linspace(0.0, np.pi, per_layer // 2)
+        x = 0.5 * (1 - np.cos(beta))                         # cosine spacing, 0 .. 1
+        t, m, p = 0.14, 0.05, 0.4
+        yt = 5 * t * (0.2969 * np.sqrt(x) - 0.1260 * x - 0.3516 * x ** 2 + 0.2843 * x ** 3
+                      - 0.1036 * x ** 4)                     # closed trailing edge
+        yc = np.where(x < p, m / p ** 2 * (2 * p * x - x ** 2),
+                      m / (1 - p) ** 2 * (1 - 2 * p + 2 * p * x - x ** 2))
+        upper = np.column_stack([x, yc + yt])[::-1]
+        lower = np.column_stack([x, yc - yt])[1:-1]
+        outline = (np.vstack([upper, lower]) - [0.5, 0.0]) * chord
+        c, s = np.cos(np.radians(stagger)), np.sin(np.radians(stagger))
+        return outline @ np.array([[c, s], [-s, c]])
+
+    def rectangle(a, b):
+        u = np.linspace(0.0, 2 * (a + b), per_layer, endpoint=False)   # along the perimeter
+        x = np.select([u < a, u < a + b, u < 2 * a + b], [u, a, 2 * a + b - u], 0.0)
+        y = np.select([u < a, u < a + b, u < 2 * a + b], [0.0, u - a, b], 2 * (a + b) - u)
+        return np.column_stack([x - a / 2, y - b / 2])
+
+    layers = [(z, rectangle(70, 36)) for z in np.arange(-10.0, -1.0, 2.0)]
+    for z in np.arange(0.0, span + step / 2, step):
+        f = z / span
+        layers.append((z, airfoil(48 - 12 * f, 25 + 25 * f)))
+    layers += [(z, rectangle(56, 28)) for z in span + np.arange(2.0, 7.0, 2.0)]
+    points, index = [], []
+    for k, (z, xy) in enumerate(layers):
+        xy = xy - xy.mean(axis=0)
+        points.append(np.column_stack([xy, np.full(len(xy), z)]))
+        index.append(np.full(len(xy), k))
+    return np.vstack(points), np.concatenate(index)
 
 
 def main(argv):

@@ -120,26 +120,10 @@ def _seam(part, other, on):
 
 
 def _extend(V, T, o, n, d, eps):
-    """Case distance > 0: move the far part, duplicate the ring, fill the gap with a band."""
-    V, T, s = _cut(V, T, o, n, eps)
-    is_far = (s[T] > 0).any(axis=1)
-    near, far = T[~is_far], T[is_far]
-    near_used = np.zeros(len(V), bool)
-    near_used[near] = True
-    far_used = np.zeros(len(V), bool)
-    far_used[far] = True
-    # On-plane vertices shared with the near part get a copy that moves; on-plane vertices
-    # of the far part alone (where the plane only touches it) just move.
-    dup = np.flatnonzero(near_used & far_used)
-    copy = np.arange(len(V))
-    copy[dup] = len(V) + np.arange(len(dup))
-    _, a, b = _seam(far, near, s == 0)
-    T = np.concatenate([near, copy[far],
-                        np.stack([a, b, copy[b]], 1), np.stack([a, copy[b], copy[a]], 1)])
-    V = np.concatenate([V, V[dup]])
-    move = np.concatenate([far_used & ~near_used, np.ones(len(dup), bool)])
-    V[move] += d * n
-    return V, T
+    """Case distance > 0: the sweep by a translation along the normal, in one band."""
+    from .mesh_sweep import sweep_mesh  # it builds on this module's cut and seam
+    from .motion import ScrewMotion, translation
+    return sweep_mesh(V, T, o, n, ScrewMotion(translation(d * n)), samples=1, eps=eps)
 
 
 def _stretch_between(V, T, o, n, d, o2, n2, eps):
