@@ -16,3 +16,4 @@ demo: deps
 
 bench: deps
 	$(PY) benchmarks/bench_stretch.py
+	$(PY) benchmarks/bench_bend_twist.py

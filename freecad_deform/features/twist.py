@@ -109,8 +109,15 @@ def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, s
         else:
             profiles = [brep.transformed(p, turn_to(f)) for p, f in
                         zip(ss.sections(between, origin, normal, fracs * gap), fracs)]
-        return ss.lofted_join(near, cut, profiles, far, (origin + gap * normal, normal), turn,
-                              [(origin, normal), far_joint], "Angle")
+        result = ss.lofted_join(near, cut, profiles, far, (origin + gap * normal, normal), turn,
+                                [(origin, normal), far_joint], "Angle")
+        # a twist keeps the volume: a loft too coarse for a steep twist cuts inside its path
+        lost = abs(result.Volume - solid.Volume)
+        if lost > 1e-3 * sum(s.Volume for s in between):
+            raise DeformError(f"The twist is too steep for {samples} Samples (the loft loses "
+                              f"{lost:.4g} mm^3); raise Samples or move Plane2 farther.",
+                              "Samples")
+        return result
 
     def loose_fn(parts):
         near, between, far = brep.split_loose(parts, origin, normal, [0.0, gap])

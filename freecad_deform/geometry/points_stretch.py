@@ -13,14 +13,16 @@ def spacing(points, sample=20000, seed=0):
 
     Repeated points are ignored; a cloud without two distinct points has no step.
     """
-    pts = np.unique(np.asarray(points, float).reshape(-1, 3), axis=0)
-    if len(pts) < 2:
-        raise DeformError("The point cloud has fewer than two distinct points; give Base a "
-                          "real cloud.", "Base")
+    pts = np.asarray(points, float).reshape(-1, 3)
     rng = np.random.default_rng(seed)
     probe = pts[rng.choice(len(pts), size=min(sample, len(pts)), replace=False)]
-    dist, _ = cKDTree(pts).query(probe, k=2)
-    return float(np.median(dist[:, 1]))
+    dist, _ = cKDTree(pts).query(probe, k=min(8, len(pts)))
+    dist[dist == 0] = np.inf  # the probe itself and its exact repeats
+    nearest = dist.min(axis=1)
+    if not np.isfinite(nearest).any():
+        raise DeformError("The point cloud has fewer than two distinct points; give Base a "
+                          "real cloud.", "Base")
+    return float(np.median(nearest[np.isfinite(nearest)]))
 
 
 def _check_crossing(s, prop):

@@ -47,7 +47,6 @@ class CommandBase:
             App.Console.PrintError(f"{self.MENU_TEXT}: {self.TOOL_TIP}\n")
             return
         base, *picked = fits
-        doc = base.Document
         visible = {base.Name: bool(base.ViewObject.Visibility)} if base.ViewObject else {}
         # Persistent, so the transaction outlives this command invocation: the task panel
         # commits it on OK (one undo step) or aborts it on Cancel.

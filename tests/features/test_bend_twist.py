@@ -8,14 +8,7 @@ import os
 import tempfile
 import unittest
 
-try:
-    from . import fc
-except ImportError:  # loaded by file path from FreeCAD's runner
-    import importlib.util
-    _spec = importlib.util.spec_from_file_location(
-        "deform_fc", os.path.join(os.path.dirname(os.path.abspath(__file__)), "fc.py"))
-    fc = importlib.util.module_from_spec(_spec)
-    _spec.loader.exec_module(fc)
+from . import fc
 
 import FreeCAD as App  # noqa: E402
 import numpy as np  # noqa: E402
@@ -246,7 +239,7 @@ class KeyMotionTest(Document):
     def test_key_on_the_circle_gives_the_bend(self):
         for interpolation in ("Rational", "Screw"):
             bar, obj = self.keyed_bend(0.0, interpolation)
-            result = self.ok(obj)
+            self.ok(obj)
             pappus = 200.0 * 45.0 * np.radians(60)  # section 20 x 10, centroid 45 from the axis
             self.assertAlmostEqual(obj.VolumeChange / pappus, 1.0, delta=1e-3)  # a loft, not exact
 
@@ -281,7 +274,7 @@ class KeyMotionTest(Document):
             return np.column_stack([x, np.cross(z, x), z]), at(t)
 
         x0 = frame([1.0, 0, 0])[0]
-        (r0, o0), (r1, o1) = placement(0.0, x0), placement(0.25, x0)
+        (r0, _), (r1, o1) = placement(0.0, x0), placement(0.25, x0)
         for dy, dz in ((10, 5), (10, -5), (-10, 5), (-10, -5)):
             offset = np.array([0, dy, dz])  # a corner of the section, from its centroid ...
             local = r0.T @ (offset - (offset @ r0[:, 2]) * r0[:, 2])  # ... seen across the path
@@ -309,3 +302,15 @@ class KeyMotionTest(Document):
         obj.Plane2 = App.Placement(V(150, 0, 0), App.Rotation(V(0, 0, 1), V(1, 0, 0)))
         self.doc.recompute()
         self.assertIn("KeyPlacements", obj.getStatusString())
+
+
+class SteepTwistTest(Document):
+    def test_too_steep_for_the_samples_is_an_error(self):
+        strip = self.base(Part.makeBox(400, 10, 100, V(-200, -5, 0)))
+        obj = fd.make_twist(strip, (V(0, 0, 48), V(0, 0, 1)), (V(0, 0, 52), V(0, 0, 1)), 90)
+        self.assertIn("Invalid", obj.State)
+        self.assertIn("Samples", obj.getStatusString())
+        obj.Plane2 = App.Placement(V(0, 0, 98), App.Rotation())  # a longer twist is fine
+        self.doc.recompute()
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        self.assertAlmostEqual(obj.Shape.Volume / 400000.0, 1.0, delta=1e-3)

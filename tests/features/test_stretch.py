@@ -7,14 +7,7 @@ import os
 import tempfile
 import unittest
 
-try:
-    from . import fc
-except ImportError:  # loaded by file path from FreeCAD's runner
-    import importlib.util
-    _spec = importlib.util.spec_from_file_location(
-        "deform_fc", os.path.join(os.path.dirname(os.path.abspath(__file__)), "fc.py"))
-    fc = importlib.util.module_from_spec(_spec)
-    _spec.loader.exec_module(fc)
+from . import fc
 
 import FreeCAD as App  # noqa: E402
 import Mesh  # noqa: E402
