@@ -248,10 +248,10 @@ def _valid_at_joints(shape, on_surface, many_wires=8):
     the wires that meet a joint are checked: BRepCheck of the whole face grows with the
     square of its holes and would cost far more than the edit.
     """
-    joint = [v for v in shape.Vertexes if on_surface(np.array([tuple(v.Point)]))]
+    joint = {v.hashCode() for v in shape.Vertexes if on_surface(np.array([tuple(v.Point)]))}
 
     def meets(sub):
-        return any(v.isSame(j) for v in sub.Vertexes for j in joint)
+        return any(v.hashCode() in joint for v in sub.Vertexes)
 
     for face in (f for f in shape.Faces if meets(f)):
         if len(face.Wires) <= many_wires:
@@ -340,12 +340,15 @@ def crossing_faces(shape, origin, normal):
 
 
 def joint_normals(face, edges, samples=7):
-    """Points and unit surface normals of `face` along its section `edges`."""
-    points, normals = [], []
+    """Points and unit normals of `face`'s surface along its section `edges`.
+
+    The surface's normal, not the face's: the same line up to sign (all Lemma 1 needs),
+    without classifying the point on a face that may have hundreds of holes.
+    """
+    surface, points, normals = face.Surface, [], []
     for edge in edges:
         for t in np.linspace(edge.FirstParameter, edge.LastParameter, samples):
             p = edge.valueAt(t)
-            uv = face.Surface.parameter(p)
             points.append(tuple(p))
-            normals.append(tuple(face.normalAt(*uv)))
+            normals.append(tuple(surface.normal(*surface.parameter(p))))
     return np.array(points, float), np.array(normals, float)
