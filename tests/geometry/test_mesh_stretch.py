@@ -7,6 +7,8 @@ from scipy.spatial import ConvexHull, cKDTree
 from freecad_deform.geometry.errors import DeformError
 from freecad_deform.geometry.mesh_stretch import cut, stretch_mesh
 
+from .mesh_oracles import assert_closed_manifold, blob, volume
+
 Z = np.array([0.0, 0.0, 1.0])
 LEVELS = [0.0, 0.7, 1.9, 3.0]                 # uneven rings, so cuts land inside wall quads
 
@@ -84,39 +86,10 @@ def lofted_square(levels, per_side):
     return V, np.array(T), 4.0
 
 
-def blob(count=500, seed=1):
-    """Convex, irregularly triangulated closed mesh: hull of random points on the unit sphere."""
-    p = np.random.default_rng(seed).normal(size=(count, 3))
-    p /= np.linalg.norm(p, axis=1)[:, None]
-    T = ConvexHull(p).simplices.copy()
-    outward = np.einsum("ij,ij->i", np.cross(p[T[:, 1]] - p[T[:, 0]], p[T[:, 2]] - p[T[:, 0]]),
-                        p[T[:, 0]]) > 0
-    T[~outward] = T[~outward][:, ::-1]
-    return p, T
-
-
 BLOB = blob()
 
 
 # ---------------------------------------------------------------- oracles
-
-def volume(V, T):
-    """Signed enclosed volume by the divergence theorem."""
-    return np.linalg.det(V[T]).sum() / 6
-
-
-def assert_closed_manifold(V, T):
-    """Every edge used exactly twice, once each way; every vertex used; no sliver of zero area."""
-    e = {}
-    for tri in T.tolist():
-        for a, b in zip(tri, tri[1:] + tri[:1]):
-            assert (a, b) not in e, f"directed edge {a}->{b} used twice"
-            e[(a, b)] = True
-    assert all((b, a) in e for a, b in e), "open edge"
-    assert set(np.unique(T)) == set(range(len(V))), "unused or missing vertex"
-    area = np.linalg.norm(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]), axis=1)
-    assert area.min() > 1e-14
-
 
 def edges(T):
     return np.unique(np.sort(np.r_[T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]], axis=1), axis=0)

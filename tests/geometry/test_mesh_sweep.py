@@ -8,6 +8,9 @@ from scipy.spatial import ConvexHull, cKDTree
 from scipy.spatial.transform import Rotation
 
 from freecad_deform.geometry import DeformError
+
+from . import mesh_oracles as oracles
+from .mesh_oracles import blob, volume
 from freecad_deform.geometry.mesh_stretch import stretch_mesh
 from freecad_deform.geometry.mesh_sweep import (bend_motion, map_between, sweep_mesh,
                                                 twist_motion)
@@ -44,34 +47,11 @@ def ngon(k, r=1.0):
 SQUARE = np.array([[-1.0, -1], [1, -1], [1, 1], [-1, 1]])
 
 
-def blob(count=400, seed=1):
-    p = np.random.default_rng(seed).normal(size=(count, 3))
-    p /= np.linalg.norm(p, axis=1)[:, None]
-    T = ConvexHull(p).simplices.copy()
-    outward = np.einsum("ij,ij->i", np.cross(p[T[:, 1]] - p[T[:, 0]], p[T[:, 2]] - p[T[:, 0]]),
-                        p[T[:, 0]]) > 0
-    T[~outward] = T[~outward][:, ::-1]
-    return p, T
-
-
-BLOB = blob()
-
-
-def volume(V, T):
-    return np.linalg.det(V[T]).sum() / 6
+BLOB = blob(400)
 
 
 def assert_closed_manifold(V, T):
-    """Every directed edge once and its reverse present; every vertex used; no zero area."""
-    e = set()
-    for tri in T.tolist():
-        for a, b in zip(tri, tri[1:] + tri[:1]):
-            assert (a, b) not in e, f"directed edge {a}->{b} used twice"
-            e.add((a, b))
-    assert all((b, a) in e for a, b in e), "open edge"
-    assert set(np.unique(T)) == set(range(len(V))), "unused or missing vertex"
-    area = np.linalg.norm(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]), axis=1)
-    assert area.min() > 1e-12
+    oracles.assert_closed_manifold(V, T, min_area=1e-12)
 
 
 def turned(points, c, k, angle):
