@@ -33,17 +33,32 @@ def loose_parts(shape):
 
 
 def split_loose(parts, origin, normal, offsets):
-    """Like split_zones, for loose parts: their pieces (edges, faces, vertices) per zone."""
-    from BOPTools import SplitAPI  # FreeCAD's Part workbench: keeps only the pieces of `parts`
+    """Like split_zones, for loose parts: their pieces (edges, faces, vertices) per zone.
+
+    Pieces wholly inside one zone are sorted by their bounding box; only those a plane
+    crosses are split, each on its own (SplitAPI's boolean over a whole wireframe can drop
+    pieces it need not touch).
+    """
     zones = [[] for _ in range(len(offsets) + 1)]
-    if not parts:
-        return zones
-    compound = Part.makeCompound(parts)
-    tools = [plane_face(compound, origin + off * normal, normal) for off in offsets]
-    for piece in _leaves(SplitAPI.slice(compound, tools, "Split")):
-        point = piece.Point if piece.ShapeType == "Vertex" else piece.CenterOfMass
-        s = float(np.dot(np.array(tuple(point)) - origin, normal))
-        zones[int(np.searchsorted(offsets, s))].append(piece)
+    crossing = []
+    for leaf in (leaf for part in parts for leaf in _leaves(part)):
+        if leaf.ShapeType == "Vertex":
+            s = float(np.dot(np.array(tuple(leaf.Point)) - origin, normal))
+            zones[int(np.searchsorted(offsets, s))].append(leaf)
+            continue
+        lo, hi = extent(leaf, origin, normal)
+        first, last = np.searchsorted(offsets, [lo - TOL, hi + TOL])
+        if first == last:
+            zones[int(first)].append(leaf)
+        else:
+            crossing.append(leaf)
+    from BOPTools import SplitAPI  # FreeCAD's Part workbench: keeps only the pieces of `parts`
+    for leaf in crossing:
+        tools = [plane_face(leaf, origin + off * normal, normal) for off in offsets]
+        for piece in _leaves(SplitAPI.slice(leaf, tools, "Split")):
+            point = piece.Point if piece.ShapeType == "Vertex" else piece.CenterOfMass
+            s = float(np.dot(np.array(tuple(point)) - origin, normal))
+            zones[int(np.searchsorted(offsets, s))].append(piece)
     return zones
 
 

@@ -97,7 +97,7 @@ class StretchSolid(unittest.TestCase):
         s = (before - origin) @ n
         expected = np.vstack([before[s < -1e-9], before[s > 1e-9] + distance * n])
         dist, _ = cKDTree(after).query(expected)
-        self.assertLess(dist.max(), 1e-7)
+        self.assertLess(dist.max(), 1e-7, f"missing: {expected[dist > 1e-7]}")
         sa = (after - origin) @ n
         explained = cKDTree(expected).query(after)[0] < 1e-7
         on_joint = (np.abs(sa) < 1e-7) | (np.abs(sa - distance) < 1e-7)
