@@ -33,9 +33,9 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 # bench_stretch puts FreeCAD's modules and the repository on sys.path and imports FreeCAD first
-from bench_stretch import (Timer, holed_plate, machine_line, print_table, progress,  # noqa: E402
-                           recompute, seconds, stl_mesh, subdivided, surface_samples,
-                           testdata)
+from bench_stretch import (Timer, holed_plate, machine_line, print_profiles,  # noqa: E402
+                           print_table, progress, recompute, run_as_script, seconds, stl_mesh,
+                           subdivided, surface_samples, testdata)
 
 import FreeCAD as App  # noqa: E402
 import MeshPart  # noqa: E402
@@ -369,26 +369,11 @@ def main(argv=None):
                 ("case", "input", "runs", "ours", "floor", "ratio", "ours rate", "floor rate"),
                 [(c, s, n, seconds(o), seconds(f), f"{o / f:.1f}", rate(k, o), rate(k, f))
                  for c, s, n, o, f, k in maps])
-    for kind, calls in (("B-rep", BREP_CALLS), ("points", MAP_CALLS), ("mesh", MAP_CALLS)):
-        mine = [row for row in parts if row[0].startswith(kind)]
-        columns = [c for c, _ in calls]
-        print_table(f"{kind}: where one profiled recompute spends its time (seconds, "
-                    f"cumulative per call, profiler overhead included)",
-                    ("case", "input", "total", *columns, "rest"),
-                    [(c, s, seconds(t), *(seconds(d[k]) for k in columns),
-                      seconds(t - sum(d.values()))) for c, s, t, d in mine])
+    print_profiles(parts, (("B-rep", BREP_CALLS), ("points", MAP_CALLS), ("mesh", MAP_CALLS)))
     print(f"\nfloor: Bend = generalFuse at the plane + revolve of the section faces + fuse; "
           f"Twist = generalFuse at both planes + makeLoft through {SAMPLES + 1} profiles + fuse; "
           f"points and mesh = numpy P @ R.T + t. Plate built in {built:.1f} s ({nx} x {ny} "
           f"holes, one cut). Total {time.perf_counter() - start:.0f} s.")
 
 
-if __name__ == "__main__" or sys.argv[:1] and os.path.realpath(sys.argv[0]) == os.path.realpath(__file__):
-    # freecadcmd runs this file under its own name and takes no script options:
-    # pass them in DEFORM_BENCH_ARGS there, e.g. DEFORM_BENCH_ARGS=--quick freecadcmd bench_bend_twist.py
-    try:
-        main(sys.argv[1:] if __name__ == "__main__" else os.environ.get("DEFORM_BENCH_ARGS", "").split())
-    except Exception:  # freecadcmd exits 0 on an uncaught exception: fail the job explicitly
-        import traceback
-        traceback.print_exc()
-        sys.exit(2)
+run_as_script(main, __name__, __file__)

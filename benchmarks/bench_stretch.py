@@ -294,6 +294,33 @@ def seconds(t):
     return f"{t:.4f}" if t < 0.1 else f"{t:.3f}" if t < 10 else f"{t:.2f}"
 
 
+def print_profiles(parts, kinds):
+    """One table per kind: where a profiled recompute spends its time, per main call."""
+    for kind, calls in kinds:
+        mine = [row for row in parts if row[0].startswith(kind)]
+        columns = [c for c, _ in calls]
+        print_table(f"{kind}: where one profiled recompute spends its time (seconds, "
+                    f"cumulative per call, profiler overhead included)",
+                    ("case", "input", "total", *columns, "rest"),
+                    [(c, s, seconds(t), *(seconds(d[k]) for k in columns),
+                      seconds(t - sum(d.values()))) for c, s, t, d in mine])
+
+
+def run_as_script(main, name, path):
+    """Run `main` when the file is the script: from python3 with its arguments, or from
+    freecadcmd (which runs it under its own name and takes no script options: they come in
+    DEFORM_BENCH_ARGS, e.g. DEFORM_BENCH_ARGS=--quick freecadcmd bench_stretch.py)."""
+    if not (name == "__main__" or sys.argv[:1] and
+            os.path.realpath(sys.argv[0]) == os.path.realpath(path)):
+        return
+    try:
+        main(sys.argv[1:] if name == "__main__" else os.environ.get("DEFORM_BENCH_ARGS", "").split())
+    except Exception:  # freecadcmd exits 0 on an uncaught exception: fail the job explicitly
+        import traceback
+        traceback.print_exc()
+        sys.exit(2)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=5, help="runs per row; the median is shown")
@@ -360,25 +387,10 @@ def main(argv=None):
     print_table("Stretch: ours vs floor (seconds, median)",
                 ("case", "input", "runs", "ours", "floor", "ratio"),
                 [(c, s, n, seconds(o), seconds(f), f"{o / f:.1f}") for c, s, n, o, f in rows])
-    for kind, calls in (("B-rep", BREP_CALLS), ("mesh", MESH_CALLS), ("points", POINT_CALLS)):
-        mine = [row for row in parts if row[0].startswith(kind)]
-        columns = [c for c, _ in calls]
-        print_table(f"{kind}: where one profiled recompute spends its time (seconds, "
-                    f"cumulative per call, profiler overhead included)",
-                    ("case", "input", "total", *columns, "rest"),
-                    [(c, s, seconds(t), *(seconds(d[k]) for k in columns),
-                      seconds(t - sum(d.values()))) for c, s, t, d in mine])
+    print_profiles(parts, (("B-rep", BREP_CALLS), ("mesh", MESH_CALLS), ("points", POINT_CALLS)))
     print(f"\nfloor: B-rep = solid.generalFuse([plane face]) + near.fuse(far); mesh and points = "
           f"numpy V + (s > 0)[:, None] * d * n. Plate built in {built:.1f} s "
           f"({nx} x {ny} holes, one cut). Total {time.perf_counter() - start:.0f} s.")
 
 
-if __name__ == "__main__" or sys.argv[:1] and os.path.realpath(sys.argv[0]) == os.path.realpath(__file__):
-    # freecadcmd runs this file under its own name and takes no script options:
-    # pass them in DEFORM_BENCH_ARGS there, e.g. DEFORM_BENCH_ARGS=--quick freecadcmd bench_stretch.py
-    try:
-        main(sys.argv[1:] if __name__ == "__main__" else os.environ.get("DEFORM_BENCH_ARGS", "").split())
-    except Exception:  # freecadcmd exits 0 on an uncaught exception: fail the job explicitly
-        import traceback
-        traceback.print_exc()
-        sys.exit(2)
+run_as_script(main, __name__, __file__)
