@@ -156,6 +156,18 @@ def mesh_volume(mesh):
     return float(np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum() / 6.0)
 
 
+def check_closed_mesh(rep, obj, mesh, before, change):
+    """The checks every mesh result gets: VolumeChange is the float64 change measured here,
+    and the mesh is closed, manifold and in as many pieces as before."""
+    rep.check("VolumeChange = the float64 volume change", obj.VolumeChange, change, rel=1e-6,
+              note="measured here on the stored mesh, whose points are float32")
+    rep.check("mesh.isSolid() (closed)", mesh.isSolid(), True)
+    rep.check("mesh.hasNonManifolds()", mesh.hasNonManifolds(), False)
+    rep.check("every edge shared by two facets, opposite directions (numpy edge count)",
+              edge_manifold(mesh), True)
+    rep.check("mesh.countComponents()", mesh.countComponents(), before.countComponents())
+
+
 def edge_manifold(mesh):
     """Every undirected edge used by exactly two facets, once in each direction."""
     f = np.array(mesh.Topology[1])
@@ -614,13 +626,7 @@ class Demo:
                   mesh_section_area(before, origin, normal) * distance, rel=1e-6)
         rep.check("VolumeChange = exact section area x distance (within the tessellation)",
                   obj.VolumeChange, section_area(shape, origin, normal) * distance, rel=1e-2)
-        rep.check("VolumeChange = the float64 volume change", obj.VolumeChange, change, rel=1e-5,
-                  warn=True, note="Mesh.Volume sums in float32")
-        rep.check("mesh.isSolid()", mesh.isSolid(), True)
-        rep.check("mesh.hasNonManifolds()", mesh.hasNonManifolds(), False)
-        rep.check("every edge shared by two facets, opposite directions (numpy edge count)",
-                  edge_manifold(mesh), True)
-        rep.check("mesh.countComponents()", mesh.countComponents(), before.countComponents())
+        check_closed_mesh(rep, obj, mesh, before, change)
         rep.check("length along X grows by distance", mesh.BoundBox.XLength,
                   before.BoundBox.XLength + distance, rel=1e-9)
         before.write(os.path.join(self.out, "sample_mesh.stl"))
@@ -868,13 +874,7 @@ class Demo:
         rep.check(f"volume change = Pappus with the exact arc (the {samples} chords fall short by "
                   f"1 - sin(x)/x = {1 - np.sin(a / samples) / (a / samples):.1e})", change,
                   area * radius * a, rel=1e-3)
-        rep.check("VolumeChange = the float64 volume change", obj.VolumeChange, change, rel=1e-5,
-                  warn=True, note="Mesh.Volume sums in float32")
-        rep.check("mesh.isSolid() (closed)", mesh.isSolid(), True)
-        rep.check("mesh.hasNonManifolds()", mesh.hasNonManifolds(), False)
-        rep.check("every edge shared by two facets, opposite directions (numpy edge count)",
-                  edge_manifold(mesh), True)
-        rep.check("mesh.countComponents()", mesh.countComponents(), before.countComponents())
+        check_closed_mesh(rep, obj, mesh, before, change)
         v0, v1 = points_of(before.Topology[0]), points_of(mesh.Topology[0])
         v0 = v0[np.unique(np.array(before.Topology[1], int))]   # MeshPart leaves unused points
         s = (v0 - origin) @ normal
