@@ -1,0 +1,442 @@
+"""Dimension-driven mesh deformation (Date & Onosato 2008, sections 4.3-4.4).
+
+DimensionModel holds what depends on the mesh only (regions, fits, simplified mesh,
+handle and its coordinates); drive() turns a dimension type, the picked regions and a
+target into new vertex positions. Every manipulation here moves the handle linearly in
+one parameter s (the change of the dimension), so the vertices are x + s * field with
+field = B @ (handle motion per unit s): one sparse product, and the range of s in which
+no triangle turns over is the root of one quadratic per triangle.
+"""
+from typing import Callable, NamedTuple
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.spatial import ConvexHull
+
+from .dimension_handle import build_handle, triangle_fit
+from .errors import DeformError
+from .fits import fit_cylinder, fit_plane
+from .mesh_regions import region_adjacency, segment, triangle_normals, vertex_regions
+from .mesh_simplify import simplify
+
+KINDS = ("Distance", "Radius", "Position")
+FIT_TOLERANCE = 1e-4   # a region is a plane / cylinder when its fit deviates less (x size)
+SIMPLIFY_TOLERANCE = 5e-3  # handle simplification error (x size)
+PARALLEL = 1e-3        # radians: two planes closer than this are parallel
+
+
+class Drive(NamedTuple):
+    current: tuple        # the dimension before: (value,) or (u, v)
+    step: float           # s: how far the target is along the drive
+    field: np.ndarray     # (N,3) vertex motion per unit of s
+    reach: tuple          # (lo, hi): the interval of s in which no triangle turns over
+    measure: Callable     # deformed vertices -> the dimension, like `current`
+    strained: int = 0     # control vertices that could not keep all planes/cylinders around
+
+
+def _unit(v):
+    v = np.asarray(v, float)
+    return v / np.linalg.norm(v)
+
+
+def _surface_distance(points, normals, tolerance):
+    """A function giving distances to the region's plane or cylinder, or None when the
+    region (points, triangle normals) is neither within `tolerance`."""
+    plane = fit_plane(points, normals)
+    if plane.rms <= tolerance:
+        return lambda q: np.abs(q @ plane.normal - plane.offset)
+    if len(points) >= 6:
+        cyl = fit_cylinder(points, normals)
+        if cyl.rms <= tolerance:
+            def distance(q):
+                d = q - cyl.point
+                return np.abs(np.linalg.norm(d - np.outer(d @ cyl.axis, cyl.axis), axis=1)
+                              - cyl.radius)
+            return distance
+    return None
+
+
+def absorb(vertices, triangles, normals, labels, tolerance):
+    """Labels with every region whose vertices all lie on a neighbouring region's plane or
+    cylinder merged into that neighbour. Dihedral angles alone split a surface where a
+    mesher left a few badly shaped triangles (a chord of a hole wall reaching far round
+    the circle); fitting, as in the paper's reference [1], puts them back."""
+    labels = np.unique(labels, return_inverse=True)[1].reshape(-1)
+    surfaces = {}
+
+    def surface(r):
+        if r not in surfaces:
+            mask = labels == r
+            surfaces[r] = _surface_distance(vertices[np.unique(triangles[mask])],
+                                            normals[mask], tolerance)
+        return surfaces[r]
+
+    merged = True
+    while merged:
+        merged = False
+        sizes = np.bincount(labels)
+        pairs = region_adjacency(triangles, labels)
+        for r in np.argsort(sizes, kind="stable"):
+            points = vertices[np.unique(triangles[labels == r])]
+            neighbours = sorted({b if a == r else a for a, b in pairs if r in (a, b)},
+                                key=lambda q: -sizes[q])
+            for q in neighbours:
+                if sizes[q] >= sizes[r] and surface(q) is not None and \
+                        np.all(surface(q)(points) <= tolerance):
+                    labels[labels == r] = q
+                    surfaces.pop(q)
+                    merged = True
+                    break
+            if merged:
+                break
+    return np.unique(labels, return_inverse=True)[1].reshape(-1)
+
+
+class DimensionModel:
+    """Regions, fits, simplified mesh and handle of one mesh, computed once."""
+
+    def __init__(self, vertices, triangles, feature_angle, simplify_tolerance=None):
+        self.vertices = np.asarray(vertices, float)
+        self.triangles = np.asarray(triangles, np.int64)
+        V, T = self.vertices, self.triangles
+        self.size = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0))) if len(V) else 0.0
+        if len(T) == 0 or self.size == 0:
+            raise DeformError("Base has no triangles; link a mesh or a solid.", "Base")
+        self.normals, self.areas = triangle_normals(V, T)
+        self.tolerance = FIT_TOLERANCE * self.size
+        self.labels = absorb(V, T, self.normals, segment(V, T, feature_angle), self.tolerance)
+        self.count = int(self.labels.max()) + 1
+        self.regions = vertex_regions(len(V), T, self.labels)     # (N, K) incidence
+        self.planes = [self._plane(r) for r in range(self.count)]
+        self.planar = np.array([p.rms <= self.tolerance for p in self.planes])
+        self._cylinders = {}
+        tol = (simplify_tolerance if simplify_tolerance else SIMPLIFY_TOLERANCE * self.size)
+        self.simplified = simplify(V, T, self.labels, tol)
+        self.handle = build_handle(V, T, self.labels, self.planar, self.simplified)
+
+    # --- regions ----------------------------------------------------------------------------
+    def region_vertices(self, label):
+        return np.unique(self.triangles[self.labels == label])
+
+    def _plane(self, label):
+        mask = self.labels == label
+        return fit_plane(self.vertices[np.unique(self.triangles[mask])], self.normals[mask])
+
+    def cylinder(self, label):
+        """The cylinder fit of a region, or None when the region is no cylinder."""
+        if label not in self._cylinders:
+            fit = None
+            if not self.planar[label]:
+                mask = self.labels == label
+                fit = fit_cylinder(self.vertices[self.region_vertices(label)], self.normals[mask])
+                if not (fit.rms <= self.tolerance and fit.radius < 1e3 * self.size):
+                    fit = None
+            self._cylinders[label] = fit
+        return self._cylinders[label]
+
+    def region_at(self, point):
+        """The region of the triangle nearest `point` (exact point-triangle distances)."""
+        p = np.asarray(point, float).reshape(3)
+        tri = self.vertices[self.triangles]
+        distance, _ = triangle_fit(p, tri[:, 0], tri[:, 1], tri[:, 2], self.normals)
+        return int(self.labels[np.argmin(distance)])
+
+    def regions_of(self, vertex):
+        row = self.regions.indices[self.regions.indptr[vertex]:self.regions.indptr[vertex + 1]]
+        return [int(r) for r in row]
+
+    def colours(self):
+        """Region label per triangle (for display)."""
+        return self.labels
+
+    # --- motion -----------------------------------------------------------------------------
+    def control(self, labels):
+        """The simplified vertices on the given regions: the control space."""
+        owners = np.unique(self.handle.owner)
+        on = np.asarray(self.regions[owners][:, list(labels)].sum(axis=1)).reshape(-1) > 0
+        return owners[on]
+
+    def field(self, motion_of_owner, affine=None):
+        """Vertex motion per unit s: handle points move by their owner's translation
+        `motion_of_owner` (N,3) plus, for owners flagged in affine[0] (N,), the linear map
+        affine[1] (3,3) about the point affine[2]."""
+        H = self.handle
+        moves = motion_of_owner[H.owner]
+        if affine is not None:
+            flagged, L, centre = affine
+            sel = flagged[H.owner]
+            moves[sel] += (H.points[sel] - centre) @ L.T
+        return np.asarray(H.displace(moves))
+
+    def reach(self, field):
+        """(lo, hi): the interval of s around 0 in which no triangle's normal turns by 90
+        degrees or more when the vertices move by s * field."""
+        T = self.triangles
+        x, f = self.vertices[T], field[T]
+        e1, e2 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+        f1, f2 = f[:, 1] - f[:, 0], f[:, 2] - f[:, 0]
+        n0 = np.cross(e1, e2)
+        a = np.einsum("ij,ij->i", n0, n0)
+        b = np.einsum("ij,ij->i", n0, np.cross(e1, f2) + np.cross(f1, e2))
+        c = np.einsum("ij,ij->i", n0, np.cross(f1, f2))
+        live = (a > 0) & ((b != 0) | (c != 0))
+        a, b, c = a[live], b[live], c[live]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            disc = b * b - 4 * a * c
+            sq = np.sqrt(np.maximum(disc, 0))
+            q = -0.5 * (b + np.copysign(sq, b))          # stable roots: q / c and a / q
+            r1 = np.where(c != 0, q / c, np.inf)
+            r2 = np.where(q != 0, a / q, np.inf)
+            real = (disc >= 0)[:, None]
+            roots = np.where(real, np.stack([r1, r2], 1), np.inf)
+        pos = np.where(roots > 0, roots, np.inf).min(initial=np.inf)
+        neg = np.where(roots < 0, roots, -np.inf).max(initial=-np.inf)
+        return float(neg), float(pos)
+
+    # --- constraints ------------------------------------------------------------------------
+    def _forbidden(self, vertex, label):
+        """(hard, directions): the directions a vertex on region `label` may not move along
+        to keep that region a plane (its normal) or a cylinder (everything across the
+        axis); a free-form region only prefers not to (its normal there, soft)."""
+        if self.planar[label]:
+            return True, [self.planes[label].normal]
+        cyl = self.cylinder(label)
+        if cyl is not None:
+            u = np.cross(cyl.axis, np.eye(3)[np.argmin(np.abs(cyl.axis))])
+            u /= np.linalg.norm(u)
+            return True, [u, np.cross(cyl.axis, u)]
+        at = np.any(self.triangles == vertex, axis=1) & (self.labels == label)
+        return False, [_unit((self.normals[at] * self.areas[at, None]).sum(axis=0))]
+
+    def constraint(self, vertex, direction, moving):
+        """(c, exact): the paper's constraint vector at `vertex`, scaled so c . direction
+        = 1. Exact: c keeps every plane and cylinder at the vertex (outside the `moving`
+        regions) what it is, and moves as little as it can across free-form ones. Where
+        those planes and cylinders leave no such direction (four faces meeting), c is the
+        least-squares compromise and exact is False."""
+        hard, soft = [], []
+        for r in self.regions_of(vertex):
+            if r not in moving:
+                strict, rows = self._forbidden(vertex, r)
+                (hard if strict else soft).extend(rows)
+        hard, soft = np.array(hard).reshape(-1, 3), np.array(soft).reshape(-1, 3)
+        N = np.eye(3)
+        if len(hard):
+            _, s, vt = np.linalg.svd(hard)
+            N = vt[int(np.sum(s > 1e-6 * s[0])):].T               # the directions left free
+        exact = N.shape[1] > 0 and np.linalg.norm(N.T @ direction) > 1e-3
+        if not exact:
+            N, soft = np.eye(3), np.concatenate([hard, 1e-3 * soft])
+        M = soft @ N
+        y = np.linalg.solve(M.T @ M + 1e-9 * np.eye(N.shape[1]), N.T @ direction)
+        c = N @ y
+        return c / (c @ direction), exact
+
+
+def _two_regions(model, regions, what):
+    labels = [model.region_at(p) for p in regions]
+    if len(set(labels)) < len(labels):
+        raise DeformError(f"Regions: two of the points pick the same region; {what}.", "Regions")
+    return labels
+
+
+def distance_drive(model, regions, target):
+    """DP: move the first picked plane along its normal so its distance to the second
+    (the reference) is `target`; the planes around it slide along their constraint vectors."""
+    if len(regions) != 2:
+        raise DeformError("Regions: Distance needs two points, on the moving plane and on "
+                          "the reference plane.", "Regions")
+    a, b = _two_regions(model, regions, "pick two different parallel planes")
+    for label, which in ((a, "first"), (b, "second")):
+        if not model.planar[label]:
+            raise DeformError(f"Regions: the {which} point picks a region that is not a plane; "
+                              "Distance needs two parallel planes.", "Regions")
+    pa, pb = model.planes[a], model.planes[b]
+    angle = np.arcsin(min(1.0, np.linalg.norm(np.cross(pa.normal, pb.normal))))
+    if angle > PARALLEL:
+        raise DeformError(f"Regions: the two planes are not parallel (they meet at "
+                          f"{np.degrees(angle):.3g} degrees); pick two parallel planes.", "Regions")
+    n = pa.normal
+    ca = model.vertices[model.region_vertices(a)].mean(axis=0)
+    cb = model.vertices[model.region_vertices(b)].mean(axis=0)
+    if (ca - cb) @ n < 0:
+        n = -n
+    current = float((ca - cb) @ n)
+    motion = np.zeros_like(model.vertices)
+    strained = 0
+    for v in model.control([a]):
+        if b in model.regions_of(v):
+            raise DeformError("Regions: the two planes touch; pick two planes apart.", "Regions")
+        c, exact = model.constraint(v, n, {a})
+        if np.linalg.norm(c) > 1e3:
+            raise DeformError("Regions: a corner of the moving plane cannot slide along the "
+                              "faces around it (they are parallel to the plane); pick "
+                              "another plane.", "Regions")
+        motion[v] = c
+        strained += not exact
+
+    def measure(vertices):
+        qa = vertices[model.region_vertices(a)]
+        qb = vertices[model.region_vertices(b)]
+        return (float(abs((qa.mean(axis=0) - qb.mean(axis=0)) @ fit_plane(qa).normal)),)
+
+    field = model.field(motion)
+    return Drive((current,), float(target) - current, field, model.reach(field), measure,
+                 strained)
+
+
+def radius_drive(model, regions, target):
+    """RC: scale the picked cylinder about its axis to radius `target`; where it meets a
+    plane that its scaling would leave, its rim slides along the axis to stay on it."""
+    if len(regions) != 1:
+        raise DeformError("Regions: Radius needs one point, on the cylinder.", "Regions")
+    label = model.region_at(regions[0])
+    cyl = model.cylinder(label)
+    if cyl is None:
+        kind = "a plane" if model.planar[label] else "not a cylinder"
+        raise DeformError(f"Regions: the picked region is {kind}; Radius needs a point on a "
+                          "cylindrical face.", "Regions")
+    a = cyl.axis
+    across = (np.eye(3) - np.outer(a, a)) / cyl.radius     # radial motion per unit radius
+    motion = np.zeros_like(model.vertices)
+    owners = model.control([label])
+    for v in owners:
+        radial = across @ (model.vertices[v] - cyl.point)
+        for r in model.regions_of(v):
+            if r != label and model.planar[r]:
+                m = model.planes[r].normal
+                if abs(a @ m) > 0.1 and abs(radial @ m) > 1e-12:
+                    motion[v] -= (radial @ m) / (a @ m) * a
+    flagged = np.zeros(len(model.vertices), bool)
+    flagged[owners] = True
+
+    def measure(vertices):
+        mask = model.labels == label
+        q = vertices[model.region_vertices(label)]
+        return (fit_cylinder(q, triangle_normals(vertices, model.triangles[mask])[0]).radius,)
+
+    field = model.field(motion, (flagged, across, cyl.point))
+    return Drive((cyl.radius,), float(target) - cyl.radius, field, model.reach(field), measure)
+
+
+def _feature(model, base, picked, extra):
+    """The regions of the object on the base plane: the picked ones, and the regions
+    reached from them (not through the base) that lie over the picked region's footprint."""
+    n = model.planes[base].normal
+    u = np.cross(n, np.eye(3)[np.argmin(np.abs(n))])
+    u /= np.linalg.norm(u)
+    w = np.cross(n, u)
+
+    def flat(label):
+        q = model.vertices[model.region_vertices(label)]
+        return np.column_stack([q @ u, q @ w])
+
+    hull = ConvexHull(flat(picked), qhull_options="QJ")
+    slack = 1e-6 * model.size
+    adjacency = region_adjacency(model.triangles, model.labels)
+    objects, todo = {picked, *extra}, [picked, *extra]
+    while todo:
+        r = todo.pop()
+        for x, y in adjacency:
+            other = y if x == r else x if y == r else None
+            if other is None or other in objects or other == base:
+                continue
+            xy = flat(other)
+            if np.all(hull.equations[:, :2] @ xy.T + hull.equations[:, 2:] <= slack):
+                objects.add(other)
+                todo.append(other)
+    return objects
+
+
+def position_drive(model, regions, target, origin, axis_point):
+    """PO: translate the object on the base plane so its reference point is at `target`
+    (u, v) in the frame (origin, axis_point, base normal)."""
+    if len(regions) < 2:
+        raise DeformError("Regions: Position needs a point on the base plane and a point on "
+                          "the feature.", "Regions")
+    labels = _two_regions(model, regions, "pick the base plane and the feature")
+    base, picked, extra = labels[0], labels[1], labels[2:]
+    if not model.planar[base]:
+        raise DeformError("Regions: the first point must pick a plane (the base of the "
+                          "feature).", "Regions")
+    n = model.planes[base].normal
+    o = np.asarray(origin, float)
+    o = o - ((o @ n) - model.planes[base].offset) * n
+    du = np.asarray(axis_point, float) - o
+    du -= (du @ n) * n
+    if np.linalg.norm(du) < 1e-9 * model.size:
+        raise DeformError("AxisPoint must differ from Origin along the base plane.", "AxisPoint")
+    eu = _unit(du)
+    ev = np.cross(n, eu)
+    objects = _feature(model, base, picked, extra)
+    cyl = model.cylinder(picked)
+    axis = cyl.axis if cyl is not None and abs(cyl.axis @ n) > 0.1 else n
+
+    def reference(vertices, plane_offset):
+        if cyl is not None and axis is cyl.axis:
+            mask = model.labels == picked
+            fit = fit_cylinder(vertices[model.region_vertices(picked)],
+                               triangle_normals(vertices, model.triangles[mask])[0])
+            p = fit.point + (plane_offset - fit.point @ n) / (fit.axis @ n) * fit.axis
+        else:
+            idx = np.unique(model.triangles[np.isin(model.labels, list(objects))])
+            p = vertices[idx].mean(axis=0)
+        return float((p - o) @ eu), float((p - o) @ ev)
+
+    current = reference(model.vertices, model.planes[base].offset)
+    goal = np.asarray(target, float).reshape(2) - current
+    step = float(np.linalg.norm(goal))
+    direction = (goal[0] * eu + goal[1] * ev) / step if step > 0 else eu
+    motion = np.zeros_like(model.vertices)
+    for v in model.control(objects):
+        t = direction.copy()
+        for r in model.regions_of(v):
+            if r not in objects and model.planar[r]:
+                m = model.planes[r].normal
+                if abs(t @ m) > 1e-12:
+                    if abs(axis @ m) < 0.1:
+                        raise DeformError("Regions: the feature meets a plane it cannot slide "
+                                          "along; pick another feature.", "Regions")
+                    t -= (t @ m) / (axis @ m) * axis
+        motion[v] = t
+
+    def measure(vertices):
+        return reference(vertices, fit_plane(vertices[model.region_vertices(base)]).offset)
+
+    field = model.field(motion)
+    return Drive(current, step, field, model.reach(field), measure)
+
+
+def drive(model, kind, regions, target, origin=None, axis_point=None):
+    """The Drive of one dimension change (see the module docstring)."""
+    if kind == "Distance":
+        if not target > 0:
+            raise DeformError("Target must be a positive distance.", "Target")
+        return distance_drive(model, regions, target)
+    if kind == "Radius":
+        if not target > 0:
+            raise DeformError("Target must be a positive radius.", "Target")
+        return radius_drive(model, regions, target)
+    if kind == "Position":
+        if origin is None or axis_point is None:
+            raise DeformError("Origin and AxisPoint are needed for Position.", "Origin")
+        return position_drive(model, regions, target, origin, axis_point)
+    raise DeformError(f"Kind must be one of {', '.join(KINDS)}.", "Kind")
+
+
+def deformed(model, result):
+    """The moved vertices of a Drive, or DeformError naming Target when the target is
+    beyond the deformable range (a triangle would turn over)."""
+    lo, hi = result.reach
+    if not lo < result.step < hi:
+        raise DeformError(f"Target is beyond the deformable range: {_range_text(result)}; "
+                          "beyond it triangles flip. Change Target.", "Target")
+    return model.vertices + result.step * result.field
+
+
+def _range_text(result):
+    lo, hi = result.reach
+    if len(result.current) == 1:
+        c = result.current[0]
+        return f"reachable {c + lo:.6g} to {c + hi:.6g} (now {c:.6g})"
+    return f"the feature can move {hi:.6g} toward the target (asked {result.step:.6g})"
