@@ -7,11 +7,11 @@ _HERE = os.path.dirname(os.path.realpath(__file__))
 if sys.path[0] != _HERE:
     sys.path.insert(0, _HERE)  # ours first: `tests` is a common package name
 
-from tests.features import test_bend_twist, test_stretch  # noqa: E402
+from tests.features import test_bend_twist, test_dimension_drive, test_stretch  # noqa: E402
 
 
 def load_tests(loader, tests, pattern):
     suite = unittest.TestSuite()
-    for module in (test_stretch, test_bend_twist):
+    for module in (test_stretch, test_bend_twist, test_dimension_drive):
         suite.addTests(loader.loadTestsFromModule(module))
     return suite

@@ -1,9 +1,10 @@
-"""Macro API: make_stretch(), make_bend(), make_twist(). Each creates one feature in one
+"""Macro API: make_stretch(), make_bend(), make_twist(), make_dimension_drive(). Each creates one feature in one
 transaction and recomputes; the keyword arguments are the object's properties."""
 import FreeCAD as App
 
 from .features.base import RESULT_TYPES, base_kind
 from .features.bend import Bend
+from .features.dimension_drive import DimensionDrive
 from .features.stretch import Stretch
 from .features.twist import Twist
 from .shapes.convert import plane_placement
@@ -12,7 +13,8 @@ from .shapes.convert import plane_placement
 def _create(proxy_class, base, name):
     """A new feature object on `base` in base's document, the base hidden."""
     doc = base.Document
-    obj = doc.addObject(RESULT_TYPES[base_kind(base)], name)
+    obj = doc.addObject(getattr(proxy_class, "RESULT", None) or RESULT_TYPES[base_kind(base)],
+                        name)
     proxy_class(obj)
     obj.Base = base
     base.Visibility = False
@@ -67,3 +69,31 @@ def make_twist(base, plane, plane2, angle, axis=None):
     if axis is not None:
         values.update(Axis=plane_placement(axis, "Axis"), UseAxis=True)
     return _make(Twist, base, values)
+
+
+def _camel(name):
+    return "".join(part[:1].upper() + part[1:] for part in name.split("_"))
+
+
+def make_dimension_drive(mesh_obj, kind, regions, target, **options):
+    """Drive a dimension of `mesh_obj` (a mesh, or a solid tessellated with `tolerance`) to
+    `target`. kind: "Distance" (regions: a point on the moving plane, one on the reference
+    plane), "Radius" (a point on the cylinder) or "Position" (a point on the base plane,
+    one on the feature; target (u, v) in the frame of the options origin and axis_point).
+    Other options are properties in snake_case: feature_angle, handle_tolerance, tolerance.
+    """
+    values = {"Kind": kind, "Regions": [App.Vector(*p) for p in regions]}
+    if kind == "Position":
+        try:
+            u, v = target
+        except (TypeError, ValueError):
+            raise ValueError("target of a Position is a (u, v) pair") from None
+        values.update(Target=float(u), TargetV=float(v))
+    else:
+        values["Target"] = target
+    for name, value in options.items():
+        prop = _camel(name)
+        if prop not in {p.name for p in DimensionDrive.PROPERTIES}:
+            raise TypeError(f"make_dimension_drive() got an unknown option {name!r}")
+        values[prop] = App.Vector(*value) if prop in ("Origin", "AxisPoint") else value
+    return _make(DimensionDrive, mesh_obj, values)

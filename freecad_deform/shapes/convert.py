@@ -80,3 +80,19 @@ def points_array(points):
 def points_from_array(array):
     import Points
     return Points.Points([App.Vector(*p) for p in np.asarray(array, float).tolist()])
+
+
+def tessellated(shape, tolerance):
+    """(vertices, triangles, Mesh) of a shape meshed with the linear deflection `tolerance`."""
+    import MeshPart
+    mesh = MeshPart.meshFromShape(Shape=shape, LinearDeflection=float(tolerance),
+                                  AngularDeflection=0.5, Relative=False)
+    return (*mesh_arrays(mesh), mesh)
+
+
+def moved_mesh(mesh, vertices):
+    """A copy of `mesh` with its points moved to `vertices` (N,3): same facets, same order."""
+    result = mesh.copy()
+    for i, p in enumerate(np.asarray(vertices, float).tolist()):
+        result.setPoint(i, App.Vector(*p))
+    return result

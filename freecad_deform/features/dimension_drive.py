@@ -1,0 +1,133 @@
+"""DimensionDrive (Date & Onosato 2008): change a plane distance, a cylinder radius or a
+feature position of a triangle mesh; the mesh follows through a prism handle, same
+topology, no remeshing. A Part base is tessellated first; the result is always a mesh.
+
+The handle (segmentation, fits, simplification, Warren coordinates) depends only on the
+Base mesh, FeatureAngle and HandleTolerance; it is kept on the proxy (not saved) so a
+new Target costs one sparse product.
+"""
+import hashlib
+
+import FreeCAD as App
+import numpy as np
+
+from ..geometry import dimension_drive as dd
+from ..geometry.errors import DeformError
+from ..shapes.convert import mesh_arrays, moved_mesh, tessellated
+from .base import DeformFeature, Prop
+
+DEFAULT_FEATURE_ANGLE = 40.0   # degrees; FreeCAD tessellates cylinders at <= 28.6 degrees
+
+
+def region_colours(labels):
+    """A distinct float RGB per region label (golden-ratio hues), one per triangle."""
+    hue = (np.arange(labels.max() + 1) * 0.618034) % 1.0
+    k = (np.array([5.0, 3.0, 1.0])[None, :] + hue[:, None] * 6.0) % 6.0
+    rgb = 0.92 - 0.62 * np.clip(np.minimum(k, 4.0 - k), 0.0, 1.0)
+    return [tuple(float(c) for c in rgb[i]) for i in labels]
+
+
+class DimensionDrive(DeformFeature):
+    TYPE = "DimensionDrive"
+    RESULT = "Mesh::FeaturePython"
+    PROPERTIES = (
+        Prop("App::PropertyLink", "Base", "Base",
+             "The mesh (or solid, tessellated with Tolerance) to deform; it is never modified."),
+        Prop("App::PropertyEnumeration", "Kind", "Dimension",
+             "Distance: between two parallel planes (the first picked moves). Radius: of a "
+             "cylinder. Position: of a feature on a base plane, in the (Origin, AxisPoint) "
+             "frame.", list(dd.KINDS)),
+        Prop("App::PropertyVectorList", "Regions", "Dimension",
+             "Points on the mesh, each picking the region nearest it. Distance: moving plane, "
+             "reference plane. Radius: the cylinder. Position: base plane, feature (then "
+             "more feature regions if wanted)."),
+        Prop("App::PropertyDistance", "Target", "Dimension",
+             "The new dimension: the distance or the radius; for Position the u coordinate."),
+        Prop("App::PropertyDistance", "TargetV", "Dimension",
+             "Position only: the new v coordinate of the feature."),
+        Prop("App::PropertyVectorDistance", "Origin", "Dimension",
+             "Position only: the origin of the (u, v) frame, on the base plane."),
+        Prop("App::PropertyVectorDistance", "AxisPoint", "Dimension",
+             "Position only: a point on the u axis of the frame, on the base plane."),
+        Prop("App::PropertyAngle", "FeatureAngle", "Handle",
+             "Triangles whose normals turn by more than this are in different regions.",
+             DEFAULT_FEATURE_ANGLE),
+        Prop("App::PropertyLength", "HandleTolerance", "Handle",
+             "How far the simplified mesh that shapes the handle may deviate from the mesh; "
+             "coarser spreads the change wider. 0: 0.5 % of the mesh size.", 0.0),
+        Prop("App::PropertyLength", "Tolerance", "Handle",
+             "Tessellation tolerance when Base is a solid.", 0.1),
+        Prop("App::PropertyFloat", "Current", "Result",
+             "The dimension measured on the Base, in mm (Position: its u).", output=True),
+        Prop("App::PropertyFloat", "CurrentV", "Result",
+             "Position only: the v coordinate measured on the Base, in mm.", output=True),
+        Prop("App::PropertyFloat", "Achieved", "Result",
+             "The dimension measured on the result, in mm (Position: its u).", output=True),
+        Prop("App::PropertyFloat", "AchievedV", "Result",
+             "Position only: the v coordinate measured on the result, in mm.", output=True),
+        Prop("App::PropertyFloatList", "Reachable", "Result",
+             "How far the dimension can go before a triangle flips: [lowest, highest] value; "
+             "for Position, [back, forward] travel in mm along the move.", output=True),
+        Prop("App::PropertyInteger", "RegionCount", "Result",
+             "Number of regions the mesh was segmented into.", output=True),
+        Prop("App::PropertyColorList", "RegionColors", "Result",
+             "One colour per triangle, by region (shown with the view's Coloring).",
+             output=True),
+    )
+
+    def base_mesh(self, obj):
+        """(vertices, triangles, Mesh) of the Base: a mesh, or a solid tessellated."""
+        base = obj.Base
+        if base is None:
+            raise DeformError("Base is empty; link a mesh or a solid.", "Base")
+        if base.isDerivedFrom("Mesh::Feature"):
+            return (*mesh_arrays(base.Mesh), base.Mesh)
+        if hasattr(base, "Shape") and not base.Shape.isNull():
+            if obj.Tolerance.Value <= 0:
+                raise DeformError("Tolerance must be positive.", "Tolerance")
+            return tessellated(base.Shape, obj.Tolerance.Value)
+        raise DeformError(f"Base {base.Label} is not a mesh or a solid; link one.", "Base")
+
+    def model(self, obj):
+        """The DimensionModel of the Base, reused while the Base and handle settings hold."""
+        V, T, mesh = self.base_mesh(obj)
+        key = hashlib.blake2b(V.tobytes() + T.tobytes() + np.array(
+            [obj.FeatureAngle.Value, obj.HandleTolerance.Value]).tobytes()).hexdigest()
+        cached = getattr(self, "_cache", None)
+        if cached is None or cached[0] != key:
+            angle = obj.FeatureAngle.Value
+            if not 0 < angle < 180:
+                raise DeformError("FeatureAngle must be between 0 and 180 degrees.",
+                                  "FeatureAngle")
+            model = dd.DimensionModel(V, T, np.radians(angle), obj.HandleTolerance.Value or None)
+            self._cache = cached = (key, model)
+        return cached[1], mesh
+
+    def execute(self, obj):
+        model, mesh = self.model(obj)
+        obj.RegionCount = model.count
+        if len(obj.RegionColors) != len(model.labels):
+            obj.RegionColors = region_colours(model.labels)
+        if len(obj.Regions) == 0:
+            raise DeformError("Regions is empty; pick the regions of the dimension.", "Regions")
+        picks = [tuple(p) for p in obj.Regions]
+        target = obj.Target.Value
+        if obj.Kind == "Position":
+            target = (target, obj.TargetV.Value)
+        drive = dd.drive(model, obj.Kind, picks, target, tuple(obj.Origin), tuple(obj.AxisPoint))
+        self._report(obj, "Current", drive.current)
+        lo, hi = drive.reach
+        obj.Reachable = ([drive.current[0] + lo, drive.current[0] + hi]
+                         if len(drive.current) == 1 else [lo, hi])
+        vertices = dd.deformed(model, drive)
+        if drive.strained:
+            App.Console.PrintWarning(
+                f"{obj.Label}: {drive.strained} corner(s) of the moving plane meet faces that "
+                "cannot all stay planes or cylinders; they were kept as nearly as possible.\n")
+        obj.Mesh = moved_mesh(mesh, vertices)
+        self._report(obj, "Achieved", drive.measure(vertices))
+
+    @staticmethod
+    def _report(obj, name, value):
+        setattr(obj, name, float(value[0]))
+        setattr(obj, name + "V", float(value[1]) if len(value) > 1 else 0.0)
