@@ -17,3 +17,4 @@ demo: deps
 bench: deps
 	$(PY) benchmarks/bench_stretch.py
 	$(PY) benchmarks/bench_bend_twist.py
+	$(PY) benchmarks/bench_dimension_drive.py

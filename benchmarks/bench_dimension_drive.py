@@ -1,0 +1,158 @@
+"""DimensionDrive benchmark on the paper's model, fandisk.obj (Date & Onosato, Figs. 3-4).
+
+Run from anywhere (FreeCAD 0.20 on Debian):
+
+    /usr/bin/python3 benchmarks/bench_dimension_drive.py            # median of 5 runs
+    /usr/bin/python3 benchmarks/bench_dimension_drive.py --quick    # 1 run, no 1M row
+
+Prints tables, asserts nothing about time.
+
+1. Handle generation on fandisk (12,946 triangles; paper: 2.1 s on a Pentium 4 3.8 GHz):
+   segmentation, region fits, simplification, prisms and Warren coordinates, and a
+   document recompute of a DimensionDrive object (FreeCAD conversions included).
+2. Update for 300,000 and 1,000,000 vertices (paper: under 30 ms for 300,000 vertices
+   and 10 handle vertices): fandisk subdivided four times (1.66M vertices, every child
+   triangle in its parent's region, the same simplified mesh), bound to the handle; the
+   first N vertices' rows of the coordinate matrix are the update of N vertices.
+   "eq. 2.3" is x + B (P' - P) for new handle positions P'; "drive" is a whole new target
+   (constraint vectors, the product, the flip range). The floor is a plain scipy CSR
+   product of the same shape and non-zeros with random values, measured in the same run.
+"""
+import argparse
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+from bench_stretch import (Timer, machine_line, print_table, run_as_script, seconds,  # noqa: E402
+                           subdivided, testdata)
+
+import FreeCAD as App  # noqa: E402
+import Mesh  # noqa: E402
+import numpy as np  # noqa: E402
+from scipy.sparse import csr_matrix  # noqa: E402
+
+import freecad_deform as fd  # noqa: E402
+from freecad_deform.features.dimension_drive import DEFAULT_FEATURE_ANGLE  # noqa: E402
+from freecad_deform.geometry import dimension_drive as dd  # noqa: E402
+from freecad_deform.geometry.dimension_handle import build_handle  # noqa: E402
+from freecad_deform.geometry.fits import fit_plane  # noqa: E402
+from freecad_deform.geometry.mesh_regions import segment  # noqa: E402
+from freecad_deform.geometry.mesh_simplify import simplify  # noqa: E402
+from freecad_deform.shapes.convert import mesh_arrays  # noqa: E402
+
+ANGLE = np.radians(DEFAULT_FEATURE_ANGLE)
+PLANES = ((3.6315, 15.1064, -1.4288), (3.6393, 14.2951, -1.2787))  # the two parallel
+# planar faces that end the cylindrical grooves (0.825 apart)
+
+
+def fandisk():
+    mesh = Mesh.Mesh(testdata("fandisk.obj"))
+    return mesh, *mesh_arrays(mesh)
+
+
+def handle_rows(timer, V, T):
+    """Handle generation, step by step and whole."""
+    steps = {}
+
+    def run():
+        t0 = time.perf_counter()
+        labels = segment(V, T, ANGLE)
+        t1 = time.perf_counter()
+        planes = [fit_plane(V[np.unique(T[labels == r])]) for r in range(labels.max() + 1)]
+        size = np.linalg.norm(V.max(0) - V.min(0))
+        planar = np.array([p.rms <= dd.FIT_TOLERANCE * size for p in planes])
+        t2 = time.perf_counter()
+        simple = simplify(V, T, labels, dd.SIMPLIFY_TOLERANCE * size)
+        t3 = time.perf_counter()
+        handle = build_handle(V, T, labels, planar, simple)
+        t4 = time.perf_counter()
+        steps.update(segment=t1 - t0, fits=t2 - t1, simplify=t3 - t2, bind=t4 - t3,
+                     simplified=len(simple.triangles), points=len(handle.points),
+                     outside=handle.outside)
+        return t4 - t0
+
+    total, n = timer.median(run)
+    return [("handle (kernel)", f"{len(V)} v / {len(T)} t", n, seconds(total),
+             seconds(steps["segment"]), seconds(steps["fits"]), seconds(steps["simplify"]),
+             seconds(steps["bind"]),
+             f"{steps['simplified']} t, {steps['points']} handle pts, {steps['outside']} out")]
+
+
+def recompute_rows(timer, mesh):
+    doc = App.newDocument("BenchDimensionDrive")
+    try:
+        base = doc.addObject("Mesh::Feature", "Fandisk")
+        base.Mesh = mesh
+        obj = fd.make_dimension_drive(base, "Distance", list(PLANES), 1.0)
+        if "Invalid" in obj.State:
+            raise RuntimeError(obj.getStatusString())
+
+        def cold():
+            obj.Proxy._cache = None
+            obj.touch()
+            doc.recompute()
+
+        def warm():
+            obj.Target = 0.9 + 0.1 * np.random.rand()
+            doc.recompute()
+
+        rows = []
+        for label, fn in (("recompute, new handle", cold), ("recompute, new Target", warm)):
+            t, n = timer.median(fn)
+            rows.append((label, f"{mesh.CountPoints} v", n, seconds(t), "", "", "", "",
+                         f"Current {obj.Current:.4f} -> Achieved {obj.Achieved:.4f}"))
+        return rows
+    finally:
+        App.closeDocument(doc.Name)
+
+
+def update_rows(timer, V, T, counts):
+    """The update of N vertices bound to fandisk's handle, next to a plain CSR product."""
+    model = dd.DimensionModel(V, T, ANGLE)
+    big_V, big_T, labels = V, T, model.labels
+    while len(big_V) < max(counts):
+        big_V, big_T = subdivided(big_V, big_T)
+        labels = np.tile(labels, 4)
+    t = time.perf_counter()
+    handle = build_handle(big_V, big_T, labels, model.planar, model.simplified)
+    bind = time.perf_counter() - t
+    drive = dd.drive(model, "Distance", list(PLANES), 1.0)
+    moves = np.zeros_like(handle.points)
+    moves[np.isin(handle.owner, model.control([model.region_at(PLANES[0])]))] = [0, 0.01, 0]
+    rng = np.random.default_rng(0)
+    rows = []
+    for n in counts:
+        B = handle.weights[:n]
+        x = big_V[:n]
+        floor_matrix = csr_matrix((rng.random(B.nnz), B.indices, B.indptr), shape=B.shape)
+        floor, nf = timer.median(lambda: floor_matrix @ moves)
+        ours, no = timer.median(lambda: x + B @ moves)
+        rows.append(("eq. 2.3 update", f"{n} v, {B.shape[1]} handle pts, {B.nnz} nnz", no,
+                     seconds(ours), seconds(floor), f"{ours / floor:.2f}x", nf))
+    rows.append(("bind (1 time)", f"{len(big_V)} v", 1, seconds(bind), "", "", ""))
+    t, n = timer.median(lambda: dd.drive(model, "Distance", list(PLANES), 1.0))
+    rows.append(("drive (new target)", f"{len(V)} v", n, seconds(t), "", "",
+                 f"reach {drive.reach[0]:.3f}..{drive.reach[1]:.3f}"))
+    return rows
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--budget", type=float, default=60.0)
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args(argv)
+    timer = Timer(1 if args.quick else args.runs, args.budget)
+    print(machine_line())
+    mesh, V, T = fandisk()
+    print_table("Handle generation on fandisk.obj (paper: 2.1 s, Pentium 4 3.8 GHz)",
+                ("case", "input", "runs", "total", "segment", "fits", "simplify", "bind", "notes"),
+                handle_rows(timer, V, T) + recompute_rows(timer, mesh))
+    counts = (300_000,) if args.quick else (300_000, 1_000_000)
+    print_table("Update (paper: < 30 ms for 300,000 vertices); floor: CSR product, same shape "
+                "and nnz", ("case", "input", "runs", "ours", "floor", "ours/floor", "floor runs"),
+                update_rows(timer, V, T, counts))
+
+
+run_as_script(main, __name__, __file__)
