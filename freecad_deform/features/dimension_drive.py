@@ -99,7 +99,13 @@ class DimensionDrive(DeformFeature):
             if not 0 < angle < 180:
                 raise DeformError("FeatureAngle must be between 0 and 180 degrees.",
                                   "FeatureAngle")
-            model = dd.DimensionModel(V, T, np.radians(angle), obj.HandleTolerance.Value or None)
+            bar = App.Base.ProgressIndicator()
+            bar.start(f"{obj.Label}: building the deformation handle", dd.DimensionModel.STEPS)
+            try:
+                model = dd.DimensionModel(V, T, np.radians(angle),
+                                          obj.HandleTolerance.Value or None, bar.next)
+            finally:
+                bar.stop()
             self._cache = cached = (key, model)
         return cached[1], mesh
 

@@ -95,7 +95,10 @@ def absorb(vertices, triangles, normals, labels, tolerance):
 class DimensionModel:
     """Regions, fits, simplified mesh and handle of one mesh, computed once."""
 
-    def __init__(self, vertices, triangles, feature_angle, simplify_tolerance=None):
+    STEPS = 4  # progress() is called after segmenting, fitting, simplifying, binding
+
+    def __init__(self, vertices, triangles, feature_angle, simplify_tolerance=None,
+                 progress=lambda: None):
         self.vertices = np.asarray(vertices, float)
         self.triangles = np.asarray(triangles, np.int64)
         V, T = self.vertices, self.triangles
@@ -104,15 +107,20 @@ class DimensionModel:
             raise DeformError("Base has no triangles; link a mesh or a solid.", "Base")
         self.normals, self.areas = triangle_normals(V, T)
         self.tolerance = FIT_TOLERANCE * self.size
-        self.labels = absorb(V, T, self.normals, segment(V, T, feature_angle), self.tolerance)
+        labels = segment(V, T, feature_angle)
+        progress()
+        self.labels = absorb(V, T, self.normals, labels, self.tolerance)
         self.count = int(self.labels.max()) + 1
         self.regions = vertex_regions(len(V), T, self.labels)     # (N, K) incidence
         self.planes = [self._plane(r) for r in range(self.count)]
         self.planar = np.array([p.rms <= self.tolerance for p in self.planes])
         self._cylinders = {}
+        progress()
         tol = (simplify_tolerance if simplify_tolerance else SIMPLIFY_TOLERANCE * self.size)
         self.simplified = simplify(V, T, self.labels, tol)
+        progress()
         self.handle = build_handle(V, T, self.labels, self.planar, self.simplified)
+        progress()
 
     # --- regions ----------------------------------------------------------------------------
     def region_vertices(self, label):
