@@ -128,3 +128,37 @@ def test_errors_name_the_property(block):
     with pytest.raises(DeformError, match=r"reachable [0-9.e+-]+ to [0-9.]+ \(now 8\)") as e:
         dd.deformed(m, drive)
     assert e.value.prop == "Target"
+
+
+def test_fandisk_every_vertex_in_a_prism_and_a_groove_widened():
+    """The paper's model: every vertex bound inside a prism (the handle reproduces the mesh),
+    and Radius on the first cylindrical groove keeps its axis: every groove vertex ends at
+    the target distance from the axis fitted here, before the drive, by the test itself."""
+    import os
+    from .test_mesh_simplify import TESTDATA, read_obj
+    V, T = read_obj(os.path.join(TESTDATA, "fandisk.obj"))
+    m = dd.DimensionModel(V, T, np.radians(40))
+    assert m.handle.outside == 0
+    assert np.abs(m.handle.weights @ m.handle.points - V).max() < 1e-9
+    groove = next(r for r in range(m.count) if m.cylinder(r) is not None)
+    ids = m.region_vertices(groove)
+    # the test's own axis: normals are perpendicular to it, the circle centre in its plane
+    n = m.normals[m.labels == groove]
+    axis = np.linalg.svd(n)[2][-1]
+    u = np.linalg.svd(np.eye(3) - np.outer(axis, axis))[0][:, :2]
+    xy = V[ids] @ u
+    A = np.column_stack([2 * xy, np.ones(len(xy))])
+    (cx, cy, k), *_ = np.linalg.lstsq(A, (xy * xy).sum(1), rcond=None)
+    r0 = np.sqrt(k + cx * cx + cy * cy)
+    centre = V[T[m.labels == groove][0]].mean(axis=0)
+    drive = dd.drive(m, "Radius", [centre], r0 * 1.05)
+    X = dd.deformed(m, drive)
+    radial = np.hypot(*(X[ids] @ u - [cx, cy]).T)
+    assert np.abs(radial - r0 * 1.05).max() < 1e-4 * r0      # the fandisk is float32 data
+    assert flips(V, X, T) == 0
+    assert drive.measure(X)[0] == pytest.approx(r0 * 1.05, rel=1e-5)
+    # regions that do not touch the groove share no handle vertex with it: not one bit moves
+    near = {groove} | {b if a == groove else a
+                       for a, b in region_adjacency(T, m.labels) if groove in (a, b)}
+    far = np.setdiff1d(np.arange(len(V)), np.unique(T[np.isin(m.labels, list(near))]))
+    assert len(far) > 1000 and np.all(X[far] == V[far])
