@@ -8,8 +8,9 @@ Run from anywhere (FreeCAD 0.20 on Debian):
 Prints tables, asserts nothing about time.
 
 1. Handle generation on fandisk (12,946 triangles; paper: 2.1 s on a Pentium 4 3.8 GHz):
-   segmentation, region fits, simplification, prisms and Warren coordinates, and a
-   document recompute of a DimensionDrive object (FreeCAD conversions included).
+   segmentation, region fits (and merging regions that lie on a neighbour's surface),
+   simplification, prisms and Warren coordinates, and a document recompute of a
+   DimensionDrive object (FreeCAD conversions included).
 2. Update for 300,000 and 1,000,000 vertices (paper: under 30 ms for 300,000 vertices
    and 10 handle vertices): fandisk subdivided four times (1.66M vertices, every child
    triangle in its parent's region, the same simplified mesh), bound to the handle; the
@@ -36,9 +37,6 @@ import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.dimension_drive import DEFAULT_FEATURE_ANGLE  # noqa: E402
 from freecad_deform.geometry import dimension_drive as dd  # noqa: E402
 from freecad_deform.geometry.dimension_handle import build_handle  # noqa: E402
-from freecad_deform.geometry.fits import fit_plane  # noqa: E402
-from freecad_deform.geometry.mesh_regions import segment  # noqa: E402
-from freecad_deform.geometry.mesh_simplify import simplify  # noqa: E402
 from freecad_deform.shapes.convert import mesh_arrays  # noqa: E402
 
 ANGLE = np.radians(DEFAULT_FEATURE_ANGLE)
@@ -52,31 +50,24 @@ def fandisk():
 
 
 def handle_rows(timer, V, T):
-    """Handle generation, step by step and whole."""
+    """Handle generation (DimensionModel), split at its progress steps."""
     steps = {}
 
     def run():
-        t0 = time.perf_counter()
-        labels = segment(V, T, ANGLE)
-        t1 = time.perf_counter()
-        planes = [fit_plane(V[np.unique(T[labels == r])]) for r in range(labels.max() + 1)]
-        size = np.linalg.norm(V.max(0) - V.min(0))
-        planar = np.array([p.rms <= dd.FIT_TOLERANCE * size for p in planes])
-        t2 = time.perf_counter()
-        simple = simplify(V, T, labels, dd.SIMPLIFY_TOLERANCE * size)
-        t3 = time.perf_counter()
-        handle = build_handle(V, T, labels, planar, simple)
-        t4 = time.perf_counter()
-        steps.update(segment=t1 - t0, fits=t2 - t1, simplify=t3 - t2, bind=t4 - t3,
-                     simplified=len(simple.triangles), points=len(handle.points),
-                     outside=handle.outside)
-        return t4 - t0
+        marks = [time.perf_counter()]
+        model = dd.DimensionModel(V, T, ANGLE, progress=lambda: marks.append(time.perf_counter()))
+        segment, fits, simplify, bind = np.diff(marks)
+        steps.update(segment=segment, fits=fits, simplify=simplify, bind=bind,
+                     simplified=len(model.simplified.triangles), regions=model.count,
+                     points=len(model.handle.points), outside=model.handle.outside)
+        return marks[-1] - marks[0]
 
     total, n = timer.median(run)
     return [("handle (kernel)", f"{len(V)} v / {len(T)} t", n, seconds(total),
              seconds(steps["segment"]), seconds(steps["fits"]), seconds(steps["simplify"]),
              seconds(steps["bind"]),
-             f"{steps['simplified']} t, {steps['points']} handle pts, {steps['outside']} out")]
+             f"{steps['regions']} regions, {steps['simplified']} t simplified, "
+             f"{steps['points']} handle pts, {steps['outside']} out")]
 
 
 def recompute_rows(timer, mesh):
