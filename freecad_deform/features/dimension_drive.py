@@ -111,10 +111,13 @@ class DimensionDrive(DeformFeature):
 
     def execute(self, obj):
         model, mesh = self.model(obj)
-        obj.RegionCount = model.count
-        if len(obj.RegionColors) != len(model.labels):
+        if getattr(self, "_coloured", None) is not model:
+            obj.RegionCount = model.count
             obj.RegionColors = region_colours(model.labels)
+            self._coloured = model
         if len(obj.Regions) == 0:
+            if obj.Mesh.CountFacets == 0:
+                obj.Mesh = mesh.copy()   # nothing to keep yet: show the Base to pick on
             raise DeformError("Regions is empty; pick the regions of the dimension.", "Regions")
         picks = [tuple(p) for p in obj.Regions]
         target = obj.Target.Value

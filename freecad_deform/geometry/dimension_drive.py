@@ -416,20 +416,21 @@ def position_drive(model, regions, target, origin, axis_point):
 
 
 def drive(model, kind, regions, target, origin=None, axis_point=None):
-    """The Drive of one dimension change (see the module docstring)."""
+    """The Drive of one dimension change (see the module docstring). The regions are
+    checked before the target, so the first error names what to fix first."""
     if kind == "Distance":
-        if not target > 0:
-            raise DeformError("Target must be a positive distance.", "Target")
-        return distance_drive(model, regions, target)
-    if kind == "Radius":
-        if not target > 0:
-            raise DeformError("Target must be a positive radius.", "Target")
-        return radius_drive(model, regions, target)
-    if kind == "Position":
+        result = distance_drive(model, regions, target)
+    elif kind == "Radius":
+        result = radius_drive(model, regions, target)
+    elif kind == "Position":
         if origin is None or axis_point is None:
             raise DeformError("Origin and AxisPoint are needed for Position.", "Origin")
         return position_drive(model, regions, target, origin, axis_point)
-    raise DeformError(f"Kind must be one of {', '.join(KINDS)}.", "Kind")
+    else:
+        raise DeformError(f"Kind must be one of {', '.join(KINDS)}.", "Kind")
+    if not target > 0:
+        raise DeformError(f"Target must be a positive {kind.lower()}.", "Target")
+    return result
 
 
 def deformed(model, result):
