@@ -129,7 +129,56 @@ class TwistCommand(CommandBase):
         return make_twist(base, plane, plane2, self.ANGLE, axis)
 
 
-COMMANDS = [StretchCommand, BendCommand, TwistCommand]
+class DimensionDriveCommand(CommandBase):
+    NAME = "Deform_DimensionDrive"
+    TYPE = "DimensionDrive"
+    MENU_TEXT = "Drive dimension"
+    TOOL_TIP = ("Change a dimension of a triangle mesh: the distance of two parallel planes, "
+                "the radius of a cylinder or the position of a feature. The rest of the mesh "
+                "follows without remeshing.\n"
+                "Select one mesh or one solid (a solid is tessellated), optionally with a face "
+                "of it that gives the first region; then click the regions in the task panel.")
+    TARGET = 1.0  # placeholder; the panel sets Target to the current value once picked
+
+    def read_selection(self):
+        """(base, face or None, picked point or None): one mesh or solid, maybe one face."""
+        try:
+            items = Gui.Selection.getSelectionEx()
+            if len(items) != 1 or selection.base_kind(items[0].Object) not in ("Mesh", "Part"):
+                return None
+            item = items[0]
+            names = [n for n in item.SubElementNames if n]
+            if not names:
+                return item.Object, None, None
+            if len(names) != 1 or not names[0].startswith("Face"):
+                return None
+            points = item.PickedPoints
+            return item.Object, item.SubObjects[0], (points[0] if points else None)
+        except Exception:
+            return None
+
+    def create(self, base, face=None, picked=None):
+        import Part
+        from ..api import make_dimension_drive
+        regions, kind = [], "Distance"
+        if face is not None:
+            regions = [point_on_face(face, picked)]
+            if isinstance(face.Surface, Part.Cylinder):
+                kind = "Radius"
+        return make_dimension_drive(base, kind, regions, self.TARGET)
+
+
+def point_on_face(face, picked):
+    """The picked point when it lies on `face` (a selection made without a click reports
+    none, or the origin), else the point of the face nearest its centre of mass."""
+    import Part
+    size = max(face.BoundBox.DiagonalLength, 1e-9)
+    if picked is not None and face.distToShape(Part.Vertex(picked))[0] < 1e-6 * size:
+        return App.Vector(picked)
+    return App.Vector(face.distToShape(Part.Vertex(face.CenterOfMass))[1][0][0])
+
+
+COMMANDS = [StretchCommand, BendCommand, TwistCommand, DimensionDriveCommand]
 TOOLBAR = [c.NAME for c in COMMANDS]
 
 

@@ -115,6 +115,10 @@ def test_all_checks_pass(gui_run):
     "Twist: mid section = the section turned by Angle/2", "Twist: one undo step",
     "Twist: Cancel leaves the document unchanged",
     "Twist from an edge: UseAxis, Axis on the edge, valid",
+    "DimensionDrive: regions in colour while open", "DimensionDrive: picks give the top and bottom planes",
+    "DimensionDrive: a click in the 3D view picks a region", "DimensionDrive: valid, Achieved = 40",
+    "DimensionDrive: one undo step", "DimensionDrive: undo removes it",
+    "DimensionDrive: Cancel leaves the document unchanged",
 ])
 def test_key_check(gui_run, name):
     found = [c for c in gui_run["checks"] if c["name"] == name]
@@ -133,7 +137,7 @@ def test_screenshots_written(gui_run, capsys):
         "stretch_task_panel_error.png", "stretch_panel.png", "stretch_task_panel.png",
         "stretch_window.png", "stretch_result.png", "stretch_reopened.png",
         "bend_task_panel.png", "bend_result.png", "twist_task_panel.png",
-        "twist_result.png"]), names
+        "twist_result.png", "dimension_drive.png", "dimension_drive_task_panel.png"]), names
     for path in shots:
         assert os.path.getsize(path) > 5000, path
         assert _drawn_fraction(path) > 0.02, f"{path} is (nearly) blank"
