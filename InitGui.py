@@ -9,13 +9,15 @@
 
 
 class DeformWorkbench(Workbench):  # noqa: F821  (Workbench comes from FreeCAD's start-up)
-    """Stretch, bend and twist existing solids, meshes and point clouds without history."""
+    """Stretch, bend and twist existing solids, meshes and point clouds, drive the
+    dimensions of meshes, without history."""
 
     from freecad_deform.gui import icon_path as _icon_path
 
     MenuText = "Deform"
     ToolTip = ("Edit existing models without their history: stretch, bend or twist a solid, "
-               "mesh or point cloud at a plane, keeping the result parametric")
+               "mesh or point cloud at a plane, or drive a mesh's dimensions, keeping the "
+               "result parametric")
     Icon = _icon_path("Deform")
     del _icon_path
 
