@@ -82,13 +82,14 @@ def make_dimension_drive(mesh_obj, kind, regions, target, **options):
     one on the feature; target (u, v) in the frame of the options origin and axis_point).
     Other options are properties in snake_case: feature_angle, handle_tolerance, tolerance.
     """
+    kind = str(kind).capitalize()
     values = {"Kind": kind, "Regions": [App.Vector(*p) for p in regions]}
     if kind == "Position":
         try:
             u, v = target
         except (TypeError, ValueError):
             raise ValueError("target of a Position is a (u, v) pair") from None
-        values.update(Target=float(u), TargetV=float(v))
+        values.update(Target=u, TargetV=v)
     else:
         values["Target"] = target
     for name, value in options.items():

@@ -46,9 +46,10 @@ class DimensionDrive(DeformFeature):
         Prop("App::PropertyDistance", "TargetV", "Dimension",
              "Position only: the new v coordinate of the feature."),
         Prop("App::PropertyVectorDistance", "Origin", "Dimension",
-             "Position only: the origin of the (u, v) frame, on the base plane."),
+             "Position only: the origin of the (u, v) frame (projected on the base plane)."),
         Prop("App::PropertyVectorDistance", "AxisPoint", "Dimension",
-             "Position only: a point on the u axis of the frame, on the base plane."),
+             "Position only: a point on the u axis of the frame; equal to Origin: u runs "
+             "along the global x axis (y if x is normal to the base plane)."),
         Prop("App::PropertyAngle", "FeatureAngle", "Handle",
              "Triangles whose normals turn by more than this are in different regions.",
              DEFAULT_FEATURE_ANGLE),

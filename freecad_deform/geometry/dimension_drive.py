@@ -358,7 +358,8 @@ def _feature(model, base, picked, extra):
 
 def position_drive(model, regions, target, origin, axis_point):
     """PO: translate the object on the base plane so its reference point is at `target`
-    (u, v) in the frame (origin, axis_point, base normal)."""
+    (u, v) in the frame (origin, axis_point, base normal), both points projected on the
+    plane; with origin = axis_point, u runs along the global x (y if x is normal to it)."""
     if len(regions) < 2:
         raise DeformError("Regions: Position needs a point on the base plane and a point on "
                           "the feature.", "Regions")
@@ -370,10 +371,13 @@ def position_drive(model, regions, target, origin, axis_point):
     n = model.planes[base].normal
     o = np.asarray(origin, float)
     o = o - ((o @ n) - model.planes[base].offset) * n
-    du = np.asarray(axis_point, float) - o
+    du = np.asarray(axis_point, float) - np.asarray(origin, float)
+    if np.linalg.norm(du) < 1e-12 * model.size:      # no frame given: the global x (or y)
+        du = np.eye(3)[0] if abs(n[0]) < 0.9 else np.eye(3)[1]
     du -= (du @ n) * n
     if np.linalg.norm(du) < 1e-9 * model.size:
-        raise DeformError("AxisPoint must differ from Origin along the base plane.", "AxisPoint")
+        raise DeformError("AxisPoint - Origin is perpendicular to the base plane; pick a "
+                          "point along the plane.", "AxisPoint")
     eu = _unit(du)
     ev = np.cross(n, eu)
     objects = _feature(model, base, picked, extra)

@@ -210,6 +210,16 @@ class TestPosition(DimensionDriveCase):
         self.assertRegex(obj.getStatusString(),                # along (15, 10) this time
                          r"can move [0-9.]+ toward the target \(asked 18.0278\)")
 
+    def test_quantities_and_the_global_frame(self):
+        """Target as quantities, kind in lower case, no frame: u, v are the global x, y."""
+        base = self.mesh_feature(block_solid((100, 60, 10), (30, 20), 6))
+        obj = fd.make_dimension_drive(base, "position", [(80, 50, 10), (36, 20, 5)],
+                                      ("4.5 cm", "30 mm"))
+        self.assertValid(obj)
+        self.assertEqual((obj.Kind, obj.Target.Value, obj.TargetV.Value), ("Position", 45, 30))
+        c, _ = circle(arrays(obj.Mesh)[0][on_circle(arrays(base.Mesh)[0], (30, 20), 6)])
+        np.testing.assert_allclose(c, [45, 30], atol=F32)
+
     def test_a_boss_moves_whole(self):
         """Picking the boss's side moves its top disk too (it lies over the side's
         footprint); the base plane stays flat around it."""

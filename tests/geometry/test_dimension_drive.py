@@ -162,3 +162,12 @@ def test_fandisk_every_vertex_in_a_prism_and_a_groove_widened():
                        for a, b in region_adjacency(T, m.labels) if groove in (a, b)}
     far = np.setdiff1d(np.arange(len(V)), np.unique(T[np.isin(m.labels, list(near))]))
     assert len(far) > 1000 and np.all(X[far] == V[far])
+
+
+def test_position_without_a_frame_uses_the_global_axes(block):
+    V, T, m = block
+    drive = dd.drive(m, "Position", [TOP, HOLE], (45.0, 30.0), (0, 0, 0), (0, 0, 0))
+    assert np.allclose(drive.current, (50, 30), atol=1e-9)
+    with pytest.raises(DeformError, match="perpendicular") as e:
+        dd.drive(m, "Position", [TOP, HOLE], (45.0, 30.0), (0, 0, 0), (0, 0, 5))
+    assert e.value.prop == "AxisPoint"
