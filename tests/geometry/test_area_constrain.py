@@ -1,0 +1,141 @@
+"""Exact area, its derivatives and the area-constrained solve (Xu, Joneja & Tang 2009).
+
+Oracles written here: the area of a quarter cylinder in closed form; the canopy's area by
+the test's own evaluation (scipy BSpline on the poles, 40-point Gauss-Legendre per span);
+central finite differences for the gradient and the Hessian; the paper's cases checked
+by that area, by which poles moved, and by the angle between displacement and gradient."""
+import numpy as np
+import pytest
+from scipy.interpolate import BSpline
+
+from freecad_deform.geometry import area_constrain as ac
+from freecad_deform.geometry.bspline_area import quadrature
+from freecad_deform.geometry.errors import DeformError
+
+from .canopy import canopy, cylinder_patch
+
+
+def own_area(s, poles=None, nodes=40):
+    """The canopy's area from scipy's BSpline on the poles themselves (non-rational)."""
+    P = s.poles if poles is None else poles
+    x, w = np.polynomial.legendre.leggauss(nodes)
+
+    def grid(knots, degree):
+        k = np.unique(knots)
+        half = np.diff(k) / 2
+        return ((k[:-1] + k[1:])[:, None] / 2 + half[:, None] * x).ravel(), \
+            (half[:, None] * w).ravel()
+    u, wu = grid(s.uknots, s.udegree)
+    v, wv = grid(s.vknots, s.vdegree)
+    su = BSpline(s.uknots, P, s.udegree)                # along u: coefficients (nv, 3) each
+    rows, drows = su(u), su.derivative()(u)           # (len(u), nv, 3)
+    sv = BSpline(s.vknots, np.moveaxis(rows, 1, 0), s.vdegree)
+    dsv = BSpline(s.vknots, np.moveaxis(drows, 1, 0), s.vdegree)
+    Su = dsv(v)                                        # (len(v), len(u), 3)
+    Sv = sv.derivative()(v)
+    f = np.linalg.norm(np.cross(Su, Sv), axis=2)
+    return float(wv @ f @ wu)
+
+
+def idx(s, i, j):
+    """Flat index of 1-based pole (i, j), as FreeCAD's getPole(i, j)."""
+    return (i - 1) * s.poles.shape[1] + (j - 1)
+
+
+def test_area_is_exact_on_a_rational_cylinder_and_the_canopy():
+    cyl = cylinder_patch(5.0, 20.0)
+    assert quadrature(cyl).area(cyl.poles) == pytest.approx(np.pi * 5 * 20 / 2, rel=1e-14)
+    s = canopy()
+    assert quadrature(s).area(s.poles) == pytest.approx(own_area(s), rel=1e-13)
+
+
+@pytest.mark.parametrize("surface", [canopy(), cylinder_patch()], ids=["canopy", "rational"])
+def test_gradient_and_hessian_match_finite_differences(surface):
+    q = quadrature(surface)
+    P = surface.poles
+    movable = np.array([1, 4]) if surface.poles.shape[1] == 2 else np.array([14, 15, 20])
+    _, g = q.gradient(P, movable)
+    H = q.hessian(P, movable)
+    h = 1e-5 * np.abs(P).max()
+    fd_g, fd_H = [], []
+    for m in movable:
+        for c in range(3):
+            up, down = P.reshape(-1, 3).copy(), P.reshape(-1, 3).copy()
+            up[m, c] += h
+            down[m, c] -= h
+            fd_g.append((q.area(up) - q.area(down)) / (2 * h))
+            fd_H.append((q.gradient(up, movable)[1] - q.gradient(down, movable)[1]).ravel()
+                        / (2 * h))
+    assert np.abs(g.ravel() - fd_g).max() < 1e-6 * np.abs(g).max()
+    assert np.abs(H - np.array(fd_H)).max() < 1e-5 * np.abs(H).max()
+    assert np.abs(H - H.T).max() < 1e-12 * np.abs(H).max()
+
+
+def solve(s, movable, ratio, dof, method="Lagrange-Newton"):
+    q = quadrature(s)
+    a0 = q.area(s.poles)
+    sol = ac.constrain_area(q, s.poles, movable, ratio * a0, dof, method)
+    return sol, a0, (sol.poles - s.poles).reshape(-1, 3)
+
+
+def test_all_interior_poles_along_their_normals_plus_five_percent():
+    s = canopy()
+    interior = [idx(s, i, j) for i in range(2, 6) for j in range(2, 6)]
+    sol, a0, d = solve(s, interior, 1.05, "Normal")
+    assert own_area(s, sol.poles) == pytest.approx(1.05 * a0, rel=1e-12)
+    moved = np.nonzero(np.abs(d).max(axis=1) > 0)[0]
+    assert set(moved) == set(interior)
+    for m in interior:                       # each along its own control-net normal
+        n = ac.net_normal(s.poles, m)
+        assert np.linalg.norm(np.cross(d[m], n)) < 1e-12 * (1 + np.linalg.norm(d[m]))
+
+
+def test_one_pole_z_only_plus_two_and_a_half_percent():
+    s = canopy()
+    m = idx(s, 2, 3)
+    sol, a0, d = solve(s, [m], 1.025, "Z")
+    assert own_area(s, sol.poles) == pytest.approx(1.025 * a0, rel=1e-12)
+    assert np.count_nonzero(d) == 1 and d[m, 2] != 0
+
+
+def test_four_poles_z_only_minus_two_and_a_half_percent():
+    s = canopy()
+    four = [idx(s, i, j) for i in (3, 4) for j in (3, 4)]
+    sol, a0, d = solve(s, four, 0.975, "Z")
+    assert own_area(s, sol.poles) == pytest.approx(0.975 * a0, rel=1e-12)
+    assert np.all(d[:, :2] == 0) and set(np.nonzero(d[:, 2])[0]) == set(four)
+
+
+@pytest.mark.parametrize("method", ["Lagrange-Newton", "Penalty"])
+def test_six_free_poles_move_along_the_area_gradient(method):
+    s = canopy()
+    six = [idx(s, i, j) for i, j in ((2, 2), (2, 3), (3, 2), (3, 3), (4, 4), (4, 5))]
+    sol, a0, d = solve(s, six, 1.05, "Free", method)
+    q = quadrature(s)
+    _, g = q.gradient(sol.poles, np.array(six))
+    cos = abs(d[six].ravel() @ g.ravel()) / np.linalg.norm(d[six]) / np.linalg.norm(g)
+    assert cos > 0.999999
+    rel = 1e-12 if method == "Lagrange-Newton" else 1e-6   # the penalty misses by O(1/N)
+    assert own_area(s, sol.poles) == pytest.approx(1.05 * a0, rel=rel)
+    assert sol.iterations < 20
+
+
+def test_rational_surface_reaches_its_target():
+    cyl = cylinder_patch()
+    sol, a0, d = solve(cyl, [1], 1.1, "Free")      # the middle pole of the bottom arc
+    assert quadrature(cyl).area(sol.poles) == pytest.approx(1.1 * a0, rel=1e-13)
+
+
+def test_half_the_area_with_one_pole_is_refused_with_the_reachable_side():
+    s = canopy()
+    with pytest.raises(DeformError, match=r"smallest area they give is [0-9.]+") as e:
+        solve(s, [idx(s, 3, 3)], 0.5, "Z")
+    assert e.value.prop == "TargetArea"
+    smallest = float(str(e.value).split("give is ")[1].split(";")[0])
+    assert 0.5 * quadrature(s).area(s.poles) < smallest < quadrature(s).area(s.poles)
+
+
+def test_no_change_is_a_fixed_point():
+    s = canopy()
+    sol, a0, d = solve(s, [idx(s, 3, 3)], 1.0, "Normal")
+    assert np.all(d == 0) and sol.area == a0
