@@ -1,8 +1,10 @@
-"""Macro API: make_stretch(), make_bend(), make_twist(), make_dimension_drive(). Each creates one feature in one
+"""Macro API: make_stretch(), make_bend(), make_twist(), make_dimension_drive(),
+make_area_constrain(). Each creates one feature in one
 transaction and recomputes; the keyword arguments are the object's properties."""
 import FreeCAD as App
 
 from .features.base import RESULT_TYPES, base_kind
+from .features.area_constrain import AreaConstrain
 from .features.bend import Bend
 from .features.dimension_drive import DimensionDrive
 from .features.stretch import Stretch
@@ -98,3 +100,22 @@ def make_dimension_drive(mesh_obj, kind, regions, target, **options):
             raise TypeError(f"make_dimension_drive() got an unknown option {name!r}")
         values[prop] = App.Vector(*value) if prop in ("Origin", "AxisPoint") else value
     return _make(DimensionDrive, mesh_obj, values)
+
+
+def make_area_constrain(base, face, target_area, poles=None, dof="Normal", **options):
+    """Move poles of `face` ("FaceN" of base) as little as possible so its area is
+    `target_area`: a number (mm^2), a quantity, or a ratio of the original as "105%".
+    poles: 1-based (i, j) pairs as in getPole, None for every interior pole; dof: "Normal",
+    "Z" or "Free". Other options are properties in snake_case: method, target_ratio."""
+    values = {"Face": str(face), "Dof": dof,
+              "Poles": [f"{i},{j}" for i, j in (poles or [])]}
+    if isinstance(target_area, str) and target_area.strip().endswith("%"):
+        values["TargetRatio"] = float(target_area.strip()[:-1]) / 100.0
+    else:
+        values["TargetArea"] = target_area
+    for name, value in options.items():
+        prop = _camel(name)
+        if prop not in {p.name for p in AreaConstrain.PROPERTIES}:
+            raise TypeError(f"make_area_constrain() got an unknown option {name!r}")
+        values[prop] = value
+    return _make(AreaConstrain, base, values)
