@@ -94,19 +94,17 @@ class AreaConstrain(DeformFeature):
         index, face = bspline.face_of(shape, obj.Face)
         surface, note = bspline.bspline_of(face)
         arrays = bspline.surface_arrays(surface)
-        q = quadrature(arrays)
-        original = q.area(arrays.poles)
+        original = quadrature(arrays).area(arrays.poles)
         movable = parse_poles(list(obj.Poles), arrays.weights.shape)
-        solution = ac.constrain_area(q, arrays.poles, movable, self.target(obj, original),
-                                     obj.Dof, obj.Method)
+        solution = ac.constrain_surface_area(arrays, movable, self.target(obj, original),
+                                             obj.Dof, obj.Method)
         new_surface = bspline.with_poles(surface, solution.poles)
         new_face = Part.Face(new_surface)
         result = None
         if not on_boundary(movable, arrays.weights.shape):
             result = bspline.replaced(shape, index, new_face)
-        achieved = quadrature(arrays._replace(poles=solution.poles)).area(solution.poles)
         moves = np.linalg.norm((solution.poles - arrays.poles).reshape(-1, 3), axis=1)
-        outputs = {"OriginalArea": original, "AchievedArea": achieved,
+        outputs = {"OriginalArea": original, "AchievedArea": solution.area,
                    "Iterations": solution.iterations, "MaxPoleMove": float(moves.max()),
                    "KKTResidual": solution.kkt, "Conversion": note,
                    "Replaced": result is not None}

@@ -14,6 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .bspline_area import Quadrature, quadrature
 from .errors import DeformError
 
 DOFS = ("Normal", "Z", "Free")
@@ -237,3 +238,16 @@ def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lag
     kkt = np.linalg.norm(t + lam * g) / max(np.linalg.norm(t), 1e-300)
     new = problem.poles(t)
     return Solution(new, quadrature.area(new), iterations, lam, float(kkt))
+
+
+def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagrange-Newton"):
+    """constrain_area on a Surface, with a quadrature exact for the result too: the node
+    count is chosen on the original surface, checked on the new one, and the solve is
+    repeated with more nodes when the new shape needs them."""
+    q = quadrature(surface)
+    while True:
+        sol = constrain_area(q, surface.poles, movable, target, dof, method)
+        check = quadrature(surface._replace(poles=sol.poles))
+        if check.count <= q.count:
+            return sol
+        q = Quadrature(surface, check.count)
