@@ -18,3 +18,4 @@ bench: deps
 	$(PY) benchmarks/bench_stretch.py
 	$(PY) benchmarks/bench_bend_twist.py
 	$(PY) benchmarks/bench_dimension_drive.py
+	$(PY) benchmarks/bench_area_constrain.py

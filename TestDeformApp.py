@@ -7,11 +7,12 @@ _HERE = os.path.dirname(os.path.realpath(__file__))
 if sys.path[0] != _HERE:
     sys.path.insert(0, _HERE)  # ours first: `tests` is a common package name
 
-from tests.features import test_bend_twist, test_dimension_drive, test_stretch  # noqa: E402
+from tests.features import (test_area_constrain, test_bend_twist,  # noqa: E402
+                            test_dimension_drive, test_stretch)
 
 
 def load_tests(loader, tests, pattern):
     suite = unittest.TestSuite()
-    for module in (test_stretch, test_bend_twist, test_dimension_drive):
+    for module in (test_stretch, test_bend_twist, test_dimension_drive, test_area_constrain):
         suite.addTests(loader.loadTestsFromModule(module))
     return suite
