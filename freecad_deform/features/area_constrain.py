@@ -1,6 +1,7 @@
 """AreaConstrain (Xu, Joneja & Tang 2009): move chosen poles of a B-spline face as little as
 possible (least squares) so its area is exactly the target. Knots, degrees and weights
 stay; a face of a shell or solid whose boundary poles stay put is replaced in it."""
+import FreeCAD as App
 import numpy as np
 import Part
 
@@ -93,6 +94,8 @@ class AreaConstrain(DeformFeature):
         shape = obj.Base.Shape
         index, face = bspline.face_of(shape, obj.Face)
         surface, note = bspline.bspline_of(face)
+        if "not exact" in note:
+            App.Console.PrintWarning(f"{obj.Label}: {obj.Face}: {note}.\n")
         arrays = bspline.surface_arrays(surface)
         original = quadrature(arrays).area(arrays.poles)
         movable = parse_poles(list(obj.Poles), arrays.weights.shape)

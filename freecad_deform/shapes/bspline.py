@@ -84,10 +84,13 @@ def replaced(shape, index, face):
     else:
         return None
     faces = [face if i == index else f for i, f in enumerate(shape.Faces)]
-    shell = Part.Shell(faces)
-    shell.sewShape()
-    shell = shell.Shells[0] if shell.Shells else shell
-    result = Part.Solid(shell) if kind == "Solid" else shell
+    try:
+        shell = Part.Shell(faces)
+        shell.sewShape()
+        shell = shell.Shells[0] if shell.Shells else shell
+        result = Part.Solid(shell) if kind == "Solid" else shell
+    except Part.OCCError:  # the faces do not close up again (e.g. a seam that moved)
+        return None
     if kind == "Solid" and result.Volume < 0:
         result.reverse()
     return result if result.isValid() and len(result.Faces) == len(faces) else None
