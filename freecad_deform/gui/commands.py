@@ -178,7 +178,50 @@ def point_on_face(face, picked):
     return App.Vector(face.distToShape(Part.Vertex(face.CenterOfMass))[1][0][0])
 
 
-COMMANDS = [StretchCommand, BendCommand, TwistCommand, DimensionDriveCommand]
+class AreaConstrainCommand(CommandBase):
+    NAME = "Deform_AreaConstrain"
+    TYPE = "AreaConstrain"
+    MENU_TEXT = "Constrain area"
+    TOOL_TIP = ("Give a B-spline face an exact area by moving chosen poles of its control net "
+                "as little as possible (a face that is not a B-spline is converted).\n"
+                "Select one face of a shape; then set the target area or percentage and pick "
+                "the poles that may move in the task panel.")
+    TARGET = "100%"  # the face as it is: a valid start, the user then sets the target
+
+    def read_selection(self):
+        """(base, "FaceN"): exactly one face of one Part object, else None."""
+        try:
+            items = Gui.Selection.getSelectionEx()
+            if len(items) != 1 or not items[0].Object.isDerivedFrom("Part::Feature"):
+                return None
+            names = [n for n in items[0].SubElementNames if n]
+            if len(names) != 1 or not names[0].startswith("Face"):
+                return None
+            return items[0].Object, names[0]
+        except Exception:
+            return None
+
+    def create(self, base, face):
+        from ..api import make_area_constrain
+        return make_area_constrain(base, face, self.TARGET, poles=self.start_poles(base, face))
+
+    @staticmethod
+    def start_poles(base, face):
+        """None (every interior pole), or every pole when the face has no interior one (a
+        plane or a cylinder converts to 2 rows of poles)."""
+        from ..shapes import bspline
+        try:
+            surface, _ = bspline.bspline_of(bspline.face_of(base.Shape, face)[1])
+        except Exception:
+            return None  # the object will say what is wrong with the face
+        nu, nv = surface.NbUPoles, surface.NbVPoles
+        if nu > 2 and nv > 2:
+            return None
+        return [(i, j) for i in range(1, nu + 1) for j in range(1, nv + 1)]
+
+
+COMMANDS = [StretchCommand, BendCommand, TwistCommand, DimensionDriveCommand,
+            AreaConstrainCommand]
 TOOLBAR = [c.NAME for c in COMMANDS]
 
 

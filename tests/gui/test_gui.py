@@ -119,6 +119,11 @@ def test_all_checks_pass(gui_run):
     "DimensionDrive: a click in the 3D view picks a region", "DimensionDrive: valid, Achieved = 40",
     "DimensionDrive: one undo step", "DimensionDrive: undo removes it",
     "DimensionDrive: Cancel leaves the document unchanged",
+    "AreaConstrain: active with a face selected", "AreaConstrain: control net drawn while open",
+    "AreaConstrain: a click on pole (2, 3) picks it",
+    "AreaConstrain: AchievedArea / OriginalArea = 1.05", "AreaConstrain: net gone after OK",
+    "AreaConstrain: one undo step", "AreaConstrain: undo removes it",
+    "AreaConstrain: Cancel leaves the document unchanged",
 ])
 def test_key_check(gui_run, name):
     found = [c for c in gui_run["checks"] if c["name"] == name]
@@ -137,7 +142,8 @@ def test_screenshots_written(gui_run, capsys):
         "stretch_task_panel_error.png", "stretch_panel.png", "stretch_task_panel.png",
         "stretch_window.png", "stretch_result.png", "stretch_reopened.png",
         "bend_task_panel.png", "bend_result.png", "twist_task_panel.png",
-        "twist_result.png", "dimension_drive.png", "dimension_drive_task_panel.png"]), names
+        "twist_result.png", "dimension_drive.png", "dimension_drive_task_panel.png",
+        "area_constrain.png", "area_constrain_task_panel.png"]), names
     for path in shots:
         assert os.path.getsize(path) > 5000, path
         assert _drawn_fraction(path) > 0.02, f"{path} is (nearly) blank"
