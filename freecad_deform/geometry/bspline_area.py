@@ -53,11 +53,14 @@ class Quadrature:
         Nu, dNu = (csr_matrix(m) for m in _basis(s.uknots, s.udegree, nu, u))
         Nv, dNv = (csr_matrix(m) for m in _basis(s.vknots, s.vdegree, nv, v))
         w = s.weights.ravel()
-        R, Ru, Rv = kron(Nu, Nv), kron(dNu, Nv), kron(Nu, dNv)
-        W, Wu, Wv = R @ w, Ru @ w, Rv @ w
-        scale = diags(w)
-        self.Ru = (diags(1 / W) @ Ru @ scale - diags(Wu / W**2) @ R @ scale).tocsr()
-        self.Rv = (diags(1 / W) @ Rv @ scale - diags(Wv / W**2) @ R @ scale).tocsr()
+        Ru, Rv = kron(dNu, Nv, format="csr"), kron(Nu, dNv, format="csr")
+        if np.any(w != 1):  # rational: R_ij = N_i N_j w_ij / W, differentiated
+            R = kron(Nu, Nv, format="csr")
+            W, Wu, Wv = R @ w, Ru @ w, Rv @ w
+            scale = diags(w)
+            Ru = (diags(1 / W) @ Ru @ scale - diags(Wu / W**2) @ R @ scale).tocsr()
+            Rv = (diags(1 / W) @ Rv @ scale - diags(Wv / W**2) @ R @ scale).tocsr()
+        self.Ru, self.Rv = Ru, Rv
         self.weights = np.outer(wu, wv).ravel()
         self.count = count
 
