@@ -1,0 +1,315 @@
+"""Direct deformation of B-spline curves and surfaces (Yamashita & Fukui, DDM).
+
+A grabbed point C(t_p) goes exactly to its target. The curve is linear in its poles
+(C(t) = sum R_i(t) V_i, with the rational basis R when there are weights), so every
+request is a linear constraint on the pole displacements; among all displacements of the
+poles in the range that meet them, the least-norm one is taken. For one push this is the
+paper's V'_j = V_j + a w_j (m1 - m0) with a = 1 / sum w^2, so the point lands exactly.
+
+Primitives (the paper's 4.2, here in 3D, for curves; fixed points also on surfaces):
+- fixed point: knots inserted at it up to the degree, the pole there and its two
+  neighbours held: position, tangent and the curve on both sides keep;
+- straight span: the poles that shape the span put on one line, and from then on moved
+  only together (one translation), so the span stays straight;
+- angle: a cusp (knots up to the degree) with straight legs of given lengths at a given
+  angle, the corner where asked.
+"""
+from typing import NamedTuple
+
+import numpy as np
+from scipy.interpolate import BSpline
+from scipy.spatial.transform import Rotation
+
+from .bspline_area import Surface
+from .errors import DeformError
+
+
+class Curve(NamedTuple):
+    poles: np.ndarray      # (n, 3)
+    weights: np.ndarray    # (n,)
+    knots: np.ndarray      # full knot vector
+    degree: int
+
+
+def basis(knots, degree, n, t, derivative=0):
+    """The n B-spline basis functions (or their derivative) at parameters t (k,) -> (k, n)."""
+    b = BSpline(knots, np.eye(n), degree)
+    if derivative:
+        b = b.derivative(derivative)
+    return np.atleast_2d(b(np.atleast_1d(np.asarray(t, float))))
+
+
+def curve_row(c, t, derivative=0):
+    """Coefficients (n,) with C^(d)(t) = row @ poles: rational basis (or its derivative)."""
+    N = basis(c.knots, c.degree, len(c.weights), t)[0] * c.weights
+    if not derivative:
+        return N / N.sum()
+    dN = basis(c.knots, c.degree, len(c.weights), t, 1)[0] * c.weights
+    W, dW = N.sum(), dN.sum()
+    return dN / W - N * dW / W**2
+
+
+def surface_row(s, u, v, du=0, dv=0):
+    """Coefficients (nu * nv,) of S (or S_u, S_v) at (u, v) in the row-major poles."""
+    nu, nv = s.weights.shape
+    Nu = basis(s.uknots, s.udegree, nu, u)[0]
+    Nv = basis(s.vknots, s.vdegree, nv, v)[0]
+    dNu = basis(s.uknots, s.udegree, nu, u, 1)[0]
+    dNv = basis(s.vknots, s.vdegree, nv, v, 1)[0]
+    w = s.weights
+    R = np.outer(Nu, Nv) * w
+    W = R.sum()
+    if not (du or dv):
+        return (R / W).ravel()
+    D = (np.outer(dNu, Nv) if du else np.outer(Nu, dNv)) * w
+    return (D / W - R * D.sum() / W**2).ravel()
+
+
+def evaluate(c, t):
+    return curve_row(c, t) @ c.poles
+
+
+# --- knot insertion (Boehm), on homogeneous poles ---------------------------------------------
+
+def insert_knot(knots, degree, poles, weights, t, times=1):
+    """(knots, poles, weights) with knot t inserted `times` times (shape unchanged).
+    poles (n, ...) along the first axis; weights (n, ...) likewise."""
+    U = np.asarray(knots, float)
+    Pw = np.concatenate([poles * weights[..., None], weights[..., None]], axis=-1)
+    p = degree
+    for _ in range(times):
+        k = int(np.searchsorted(U, t, side="right")) - 1
+        if np.count_nonzero(np.isclose(U, t, rtol=0, atol=1e-12)) >= p:
+            break
+        new = [Pw[i] for i in range(k - p + 1)]
+        for i in range(k - p + 1, k + 1):
+            a = (t - U[i]) / (U[i + p] - U[i])
+            new.append((1 - a) * Pw[i - 1] + a * Pw[i])
+        new += [Pw[i] for i in range(k, len(Pw))]
+        Pw = np.array(new)
+        U = np.insert(U, k + 1, t)
+    w = Pw[..., -1]
+    return U, Pw[..., :-1] / w[..., None], w
+
+
+def multiplicity(knots, t):
+    return int(np.count_nonzero(np.isclose(knots, t, rtol=0, atol=1e-12)))
+
+
+def curve_with_knot(c, t, times):
+    need = max(0, times - multiplicity(c.knots, t))
+    if need == 0:
+        return c
+    U, P, w = insert_knot(c.knots, c.degree, c.poles, c.weights, t, need)
+    return Curve(P, w, U, c.degree)
+
+
+# --- least-norm solve -------------------------------------------------------------------------
+
+def least_norm(n, movable, rows, rhs, groups=(), tol=1e-9):
+    """Displacements (n, 3) of the poles: zero off `movable`, rows @ D = rhs exactly, each
+    group of pole indices moving by one common translation, |D| least.
+
+    rows (k, n): each constraint's coefficients over all poles; rhs (k, 3)."""
+    movable = np.asarray(sorted(set(movable)), int)
+    A = np.asarray(rows, float)[:, movable] if len(rows) else np.zeros((0, len(movable)))
+    b = np.asarray(rhs, float).reshape(-1, 3)
+    extra = []
+    pos = {m: i for i, m in enumerate(movable)}
+    for g in groups:
+        g = [pos[x] for x in g if x in pos]
+        for x in g[1:]:
+            row = np.zeros(len(movable))
+            row[g[0]], row[x] = 1.0, -1.0
+            extra.append(row)
+    if extra:
+        A = np.vstack([A, extra])
+        b = np.vstack([b, np.zeros((len(extra), 3))])
+    if len(movable) == 0:
+        raise DeformError("No pole may move: the Range holds none that are not fixed; "
+                          "raise Range or remove Fixed points.", "Range")
+    X, *_ = np.linalg.lstsq(A, b, rcond=None)
+    miss = np.abs(A @ X - b).max() if len(b) else 0.0
+    if miss > tol * max(1.0, np.abs(b).max()):
+        raise DeformError(f"The pushes and constraints contradict each other (they miss by "
+                          f"{miss:.3g} mm); remove a Fixed point or a Straight span near the "
+                          "push, or raise Range.", "Points")
+    D = np.zeros((n, 3))
+    D[movable] = X
+    return D
+
+
+# --- curves -----------------------------------------------------------------------------------
+
+def pole_at(c, t):
+    """Index of the pole the curve passes through at t (a knot of multiplicity = degree)."""
+    k = int(np.searchsorted(c.knots, t - 1e-12, side="left"))
+    return k - 1
+
+
+def window(center, size, low, high):
+    """Indices of `size` consecutive poles centred on `center`, within [low, high]."""
+    size = min(size, high - low + 1)
+    start = int(np.clip(center - size // 2, low, high - size + 1))
+    return list(range(start, start + size))
+
+
+def straight_poles(c, a, b):
+    """Indices of the poles that shape the curve between parameters a < b."""
+    first = int(np.searchsorted(c.knots, a, side="right")) - 1
+    last = int(np.searchsorted(c.knots, b, side="left")) - 1
+    return list(range(first - c.degree, max(last, first) + 1))
+
+
+def make_straight(c, a, b):
+    """(curve, pole group): the span [a, b] made exactly straight, its poles on the line
+    through C(a) and C(b) (knots at a and b first, so no pole outside is touched)."""
+    c = curve_with_knot(curve_with_knot(c, a, 1), b, 1)
+    group = straight_poles(c, a, b)
+    p0, p1 = evaluate(c, a), evaluate(c, b)
+    d = p1 - p0
+    if np.linalg.norm(d) == 0:
+        raise DeformError("A Straight span has no length; pick two different points.",
+                          "Straight")
+    d = d / np.linalg.norm(d)
+    P = c.poles.copy()
+    P[group] = p0 + np.outer((P[group] - p0) @ d, d)
+    return c._replace(poles=P), group
+
+
+def make_angle(c, t, angle, legs, corner=None):
+    """(curve, held poles): a cusp at t whose legs are straight, `legs` = (before, after)
+    long, meeting at `angle` (radians) at `corner` (default: where the curve is). The legs
+    leave along the tangent, turned toward the curve's centre of curvature by half of
+    (pi - angle) each, in the osculating plane."""
+    p = c.degree
+    tangent = curve_row(c, t, 1) @ c.poles
+    tangent = tangent / np.linalg.norm(tangent)
+    h = 1e-4 * (c.knots[-1] - c.knots[0])
+    bend = (curve_row(c, min(t + h, c.knots[-1]), 1) - curve_row(c, max(t - h, c.knots[0]), 1)) @ c.poles
+    normal = np.cross(tangent, bend)
+    if np.linalg.norm(normal) < 1e-9 * max(np.linalg.norm(bend), 1e-300):
+        normal = np.cross(tangent, np.eye(3)[np.argmin(np.abs(tangent))])
+    normal /= np.linalg.norm(normal)
+    half = (np.pi - angle) / 2
+    d2 = Rotation.from_rotvec(half * normal).apply(tangent)
+    d1 = Rotation.from_rotvec(-half * normal).apply(-tangent)
+    c = curve_with_knot(c, t, p)
+    k = pole_at(c, t)
+    before, after = list(range(k - p, k + 1)), list(range(k, k + p + 1))
+    if before[0] < 0 or after[-1] >= len(c.poles):
+        raise DeformError("An angle needs degree poles on both sides of its corner; put it "
+                          "farther from the curve's ends.", "Angles")
+    P = c.poles.copy()
+    o = P[k] if corner is None else np.asarray(corner, float)
+    for idx, d, length in ((before[::-1], d1, legs[0]), (after, d2, legs[1])):
+        for j, i in enumerate(idx):
+            P[i] = o + d * length * j / p
+    return c._replace(poles=P), sorted(set(before + after))
+
+
+def push_curve(c, t, target, size, held=(), groups=()):
+    """The curve with C(t) moved exactly to `target`, moving at most `size` poles around t
+    (never the two end poles, nor `held`), least-norm; groups move as one."""
+    n = len(c.poles)
+    row = curve_row(c, t)
+    centre = int(np.argmax(row))
+    movable = [i for i in window(centre, size, 1, n - 2) if i not in set(held)]
+    for g in groups:
+        if set(g) & set(movable):
+            movable += [i for i in g if i not in movable and 0 < i < n - 1
+                        and i not in set(held)]
+    d = np.asarray(target, float) - row @ c.poles
+    D = least_norm(n, movable, [row], [d], groups)
+    return c._replace(poles=c.poles + D)
+
+
+def refine_curve(c, t, size):
+    """Insert knots next to t until the range has `size` movable (non-end) poles."""
+    while len(c.poles) - 2 < size:
+        k = int(np.clip(np.searchsorted(c.knots, t, side="right") - 1, c.degree,
+                        len(c.knots) - c.degree - 2))
+        a, b = c.knots[k], c.knots[k + 1]
+        c = curve_with_knot(c, (a + b) / 2 if b > a else a, multiplicity(c.knots, (a + b) / 2) + 1)
+    return c
+
+
+# --- surfaces ---------------------------------------------------------------------------------
+
+def push_surface(s, u, v, target, size, fixed=()):
+    """The surface with S(u, v) moved exactly to `target`, moving at most size x size
+    interior poles around it (border poles never), least-norm. `fixed` (u, v) points keep
+    their position and tangent plane (S, S_u, S_v unchanged: 9 linear constraints each)."""
+    nu, nv = s.weights.shape
+    row = surface_row(s, u, v)
+    ci, cj = np.unravel_index(int(np.argmax(row)), (nu, nv))
+    ii = window(ci, size, 1, nu - 2)
+    jj = window(cj, size, 1, nv - 2)
+    movable = [i * nv + j for i in ii for j in jj]
+    rows = [row]
+    rhs = [np.asarray(target, float) - row @ s.poles.reshape(-1, 3)]
+    for fu, fv in fixed:
+        for du, dv in ((0, 0), (1, 0), (0, 1)):
+            rows.append(surface_row(s, fu, fv, du, dv))
+            rhs.append(np.zeros(3))
+    D = least_norm(nu * nv, movable, rows, rhs)
+    return s._replace(poles=s.poles + D.reshape(s.poles.shape))
+
+
+def bezier_patch(corners, degree=3):
+    """A degree x degree Bezier surface with the bilinear grid of 4 corners as poles: the
+    exact B-spline form of a planar four-sided face (Pratt): corners (00, 10, 11, 01)."""
+    a, b, c, d = (np.asarray(x, float) for x in corners)
+    s = np.linspace(0, 1, degree + 1)
+    S, T = np.meshgrid(s, s, indexing="ij")
+    P = ((1 - S) * (1 - T))[..., None] * a + (S * (1 - T))[..., None] * b + \
+        (S * T)[..., None] * c + ((1 - S) * T)[..., None] * d
+    knots = np.r_[np.zeros(degree + 1), np.ones(degree + 1)]
+    return Surface(P, np.ones(P.shape[:2]), knots, knots.copy(), degree, degree)
+
+
+# --- where a point is -------------------------------------------------------------------------
+
+def closest_parameter(c, x, samples=400):
+    """Parameter t of the curve point nearest x: dense samples, then Newton on
+    (C(t) - x) . C'(t) = 0."""
+    x = np.asarray(x, float)
+    a, b = c.knots[c.degree], c.knots[-c.degree - 1]
+    ts = np.linspace(a, b, samples)
+    N = basis(c.knots, c.degree, len(c.weights), ts) * c.weights
+    pts = (N / N.sum(axis=1, keepdims=True)) @ c.poles
+    t = ts[np.argmin(np.linalg.norm(pts - x, axis=1))]
+    for _ in range(30):
+        d = evaluate(c, t) - x
+        d1 = curve_row(c, t, 1) @ c.poles
+        h = 1e-7 * (b - a)
+        d2 = (curve_row(c, min(t + h, b), 1) - curve_row(c, max(t - h, a), 1)) @ c.poles / (2 * h)
+        step = -(d @ d1) / (d1 @ d1 + d @ d2)
+        t = float(np.clip(t + step, a, b))
+        if abs(step) < 1e-15 * (b - a):
+            break
+    return t, float(np.linalg.norm(evaluate(c, t) - x))
+
+
+def closest_uv(s, x, samples=60):
+    """(u, v, distance) of the surface point nearest x: a grid, then Gauss-Newton."""
+    x = np.asarray(x, float)
+    nu, nv = s.weights.shape
+    (u0, u1), (v0, v1) = (s.uknots[s.udegree], s.uknots[-s.udegree - 1]), \
+        (s.vknots[s.vdegree], s.vknots[-s.vdegree - 1])
+    us, vs = np.linspace(u0, u1, samples), np.linspace(v0, v1, samples)
+    Nu = basis(s.uknots, s.udegree, nu, us)
+    Nv = basis(s.vknots, s.vdegree, nv, vs)
+    W = Nu @ s.weights @ Nv.T
+    grid = np.einsum("ai,ijk,bj->abk", Nu, s.poles * s.weights[..., None], Nv) / W[..., None]
+    a, b = np.unravel_index(np.argmin(np.linalg.norm(grid - x, axis=2)), W.shape)
+    u, v = us[a], vs[b]
+    P = s.poles.reshape(-1, 3)
+    for _ in range(30):
+        d = surface_row(s, u, v) @ P - x
+        J = np.column_stack([surface_row(s, u, v, 1, 0) @ P, surface_row(s, u, v, 0, 1) @ P])
+        step, *_ = np.linalg.lstsq(J, -d, rcond=None)
+        u, v = float(np.clip(u + step[0], u0, u1)), float(np.clip(v + step[1], v0, v1))
+        if np.abs(step).max() < 1e-15:
+            break
+    return u, v, float(np.linalg.norm(surface_row(s, u, v) @ P - x))
