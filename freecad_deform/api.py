@@ -1,5 +1,5 @@
 """Macro API: make_stretch(), make_bend(), make_twist(), make_dimension_drive(),
-make_area_constrain(). Each creates one feature in one
+make_area_constrain(), make_direct_push(). Each creates one feature in one
 transaction and recomputes; the keyword arguments are the object's properties."""
 import FreeCAD as App
 
@@ -7,6 +7,7 @@ from .features.base import RESULT_TYPES, base_kind
 from .features.area_constrain import AreaConstrain
 from .features.bend import Bend
 from .features.dimension_drive import DimensionDrive
+from .features.direct_push import DirectPush
 from .features.stretch import Stretch
 from .features.twist import Twist
 from .shapes.convert import plane_placement
@@ -119,3 +120,28 @@ def make_area_constrain(base, face, target_area, poles=None, dof="Normal", **opt
             raise TypeError(f"make_area_constrain() got an unknown option {name!r}")
         values[prop] = value
     return _make(AreaConstrain, base, values)
+
+
+def _vectors(points):
+    return [App.Vector(*p) for p in points]
+
+
+def make_direct_push(base, element, point, target, **options):
+    """Push `point` of `element` ("EdgeN" or "FaceN" of base) to `target`; the poles and
+    knots follow. Options: range (the paper's m), fixed=[points], straight=[(point_a,
+    point_b)], angles=[(corner, degrees, leg_before, leg_after)]."""
+    values = {"Element": str(element), "Points": _vectors([point]),
+              "Targets": _vectors([target])}
+    if "range" in options:
+        values["Range"] = int(options.pop("range"))
+    if "fixed" in options:
+        values["Fixed"] = _vectors(options.pop("fixed"))
+    if "straight" in options:
+        values["Straight"] = _vectors([p for pair in options.pop("straight") for p in pair])
+    if "angles" in options:
+        values["Angles"] = [App.Vector(*v) for corner, degrees, before, after in
+                            options.pop("angles")
+                            for v in (tuple(corner), (degrees, before, after))]
+    if options:
+        raise TypeError(f"make_direct_push() got unknown options {sorted(options)}")
+    return _make(DirectPush, base, values)

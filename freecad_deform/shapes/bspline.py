@@ -1,11 +1,12 @@
-"""B-spline faces as arrays and back: poles, weights, knots of a Part.BSplineSurface, the
-surface with new poles (same knots, degrees and weights), and a face replaced in its shell
-or solid."""
+"""B-spline edges and faces as arrays and back: poles, weights, knots of a
+Part.BSplineCurve / BSplineSurface, new ones from arrays, the exact Bezier form of a planar
+four-sided face, and a face replaced in its shell or solid."""
 import FreeCAD as App
 import numpy as np
 import Part
 
 from ..geometry.bspline_area import Surface
+from ..geometry.direct_push import Curve
 from ..geometry.errors import DeformError
 
 # surface types NurbsConvert represents exactly (rational B-splines)
@@ -22,6 +23,88 @@ def face_of(shape, name, prop="Face"):
     except (ValueError, IndexError):
         raise DeformError(f"{prop} {name!r} is not a face of the Base (Face1 to "
                           f"Face{len(shape.Faces)}).", prop)
+
+
+def edge_of(shape, name, prop="Element"):
+    try:
+        index = int(str(name).replace("Edge", "")) - 1
+        if index < 0 or not str(name).startswith("Edge"):
+            raise ValueError
+        return index, shape.Edges[index]
+    except (ValueError, IndexError):
+        raise DeformError(f"{prop} {name!r} is not an edge of the Base (Edge1 to "
+                          f"Edge{len(shape.Edges)}).", prop)
+
+
+def curve_of(edge):
+    """(BSplineCurve covering exactly the edge, note on the conversion)."""
+    kind = edge.Curve.TypeId.split("::Geom")[-1]
+    first, last = edge.FirstParameter, edge.LastParameter
+    if kind == "BSplineCurve":
+        curve, note = edge.Curve.copy(), "B-spline"
+        a, b = curve.FirstParameter, curve.LastParameter
+        if abs(a - first) > 1e-12 or abs(b - last) > 1e-12:
+            curve.segment(first, last)
+            note += ", cut to the edge"
+    else:
+        curve = edge.Curve.toBSpline(first, last)
+        note = (f"{kind} converted exactly" if kind in ("Line", "LineSegment", "Circle",
+                                                        "Ellipse", "BezierCurve", "ArcOfCircle")
+                else f"{kind} approximated (not exact)")
+    if curve.isPeriodic():
+        curve.setNotPeriodic()
+    return curve, note
+
+
+def curve_arrays(curve):
+    poles = np.array([tuple(p) for p in curve.getPoles()], float)
+    knots = np.repeat(curve.getKnots(), curve.getMultiplicities())
+    return Curve(poles, np.array(curve.getWeights(), float), np.asarray(knots, float),
+                 curve.Degree)
+
+
+def _knots_mults(full):
+    knots, mults = [], []
+    for k in np.asarray(full, float):
+        if knots and abs(k - knots[-1]) <= 1e-12:
+            mults[-1] += 1
+        else:
+            knots.append(float(k))
+            mults.append(1)
+    return knots, mults
+
+
+def curve_from_arrays(c):
+    knots, mults = _knots_mults(c.knots)
+    curve = Part.BSplineCurve()
+    curve.buildFromPolesMultsKnots([App.Vector(*p) for p in c.poles.tolist()], mults, knots,
+                                   False, c.degree, [float(w) for w in c.weights])
+    return curve
+
+
+def surface_from_arrays(s):
+    uk, um = _knots_mults(s.uknots)
+    vk, vm = _knots_mults(s.vknots)
+    surface = Part.BSplineSurface()
+    surface.buildFromPolesMultsKnots([[App.Vector(*p) for p in row] for row in s.poles.tolist()],
+                                     um, vm, uk, vk, False, False, s.udegree, s.vdegree,
+                                     s.weights.tolist())
+    return surface
+
+
+def quad_corners(face):
+    """The 4 corners of a planar face bounded by 4 straight edges, in order round the
+    outer wire and turning with the face's normal; None for any other face."""
+    if face.Surface.TypeId != "Part::GeomPlane" or len(face.Wires) != 1 or \
+            len(face.Edges) != 4 or any(e.Curve.TypeId not in ("Part::GeomLine",
+                                                                "Part::GeomLineSegment")
+                                        for e in face.Edges):
+        return None
+    corners = [np.array(tuple(v.Point)) for v in face.OuterWire.OrderedVertexes]
+    n = np.array(tuple(face.normalAt(*face.Surface.parameter(face.CenterOfMass))))
+    if np.cross(corners[1] - corners[0], corners[3] - corners[0]) @ n < 0:
+        corners = corners[::-1]
+    return corners
 
 
 def bspline_of(face, prop="Face"):
