@@ -147,10 +147,19 @@ def pole_at(c, t):
     return k - 1
 
 
-def window(center, size, low, high):
-    """Indices of `size` consecutive poles centred on `center`, within [low, high]."""
+def window(weights, size, low, high):
+    """`size` consecutive pole indices within [low, high] for a point whose basis weights
+    over the poles are `weights`: the poles it depends on (the paper's V_i..V_i+degree),
+    widened evenly on both sides, or the heaviest ones when fewer are asked."""
+    nonzero = np.nonzero(weights > 0)[0]
+    lo, hi = int(nonzero[0]), int(nonzero[-1])
     size = min(size, high - low + 1)
-    start = int(np.clip(center - size // 2, low, high - size + 1))
+    if size < hi - lo + 1:
+        centre = int(np.argmax(weights))
+        start = centre - (size - 1) // 2
+    else:
+        start = lo - (size - (hi - lo + 1)) // 2
+    start = int(np.clip(start, low, high - size + 1))
     return list(range(start, start + size))
 
 
@@ -213,8 +222,7 @@ def push_curve(c, t, target, size, held=(), groups=()):
     (never the two end poles, nor `held`), least-norm; groups move as one."""
     n = len(c.poles)
     row = curve_row(c, t)
-    centre = int(np.argmax(row))
-    movable = [i for i in window(centre, size, 1, n - 2) if i not in set(held)]
+    movable = [i for i in window(row, size, 1, n - 2) if i not in set(held)]
     for g in groups:
         if set(g) & set(movable):
             movable += [i for i in g if i not in movable and 0 < i < n - 1
@@ -242,9 +250,9 @@ def push_surface(s, u, v, target, size, fixed=()):
     their position and tangent plane (S, S_u, S_v unchanged: 9 linear constraints each)."""
     nu, nv = s.weights.shape
     row = surface_row(s, u, v)
-    ci, cj = np.unravel_index(int(np.argmax(row)), (nu, nv))
-    ii = window(ci, size, 1, nu - 2)
-    jj = window(cj, size, 1, nv - 2)
+    grid = np.abs(row.reshape(nu, nv))
+    ii = window(grid.sum(axis=1), size, 1, nu - 2)
+    jj = window(grid.sum(axis=0), size, 1, nv - 2)
     movable = [i * nv + j for i in ii for j in jj]
     rows = [row]
     rhs = [np.asarray(target, float) - row @ s.poles.reshape(-1, 3)]

@@ -1,0 +1,161 @@
+"""Direct deformation kernel (Yamashita & Fukui): exact landing, least norm, knot insertion,
+fixed points, straight spans, angles, surfaces.
+
+Oracles written here: scipy's BSpline evaluation of the poles (not the kernel's rows), the
+closed-form least-norm step of the paper (V'_j = V_j + w_j d / sum w^2), sampled points
+for straightness, angles between legs from the poles' geometry."""
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.interpolate import BSpline
+
+from freecad_deform.geometry import direct_push as dp
+from freecad_deform.geometry.errors import DeformError
+
+from .canopy import canopy
+
+
+def wavy(n=9, degree=3):
+    x = np.linspace(0, 80, n)
+    poles = np.column_stack([x, 10 * np.sin(x / 12), 3 * np.cos(x / 20)])
+    knots = np.r_[np.zeros(degree + 1), np.linspace(0, 1, n - degree + 1)[1:-1],
+                  np.ones(degree + 1)]
+    return dp.Curve(poles, np.ones(n), knots, degree)
+
+
+def at(c, t, nu=0):
+    """The test's own evaluation (non-rational curves): scipy BSpline on the poles."""
+    b = BSpline(c.knots, c.poles, c.degree)
+    return (b.derivative(nu) if nu else b)(t)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.05, 0.95), st.tuples(*[st.floats(-20, 20)] * 3))
+def test_push_lands_exactly_and_keeps_the_ends(t, move):
+    c = wavy()
+    target = at(c, t) + np.array(move)
+    new = dp.push_curve(c, t, target, c.degree + 2)
+    assert np.abs(at(new, t) - target).max() < 1e-9
+    assert np.all(new.poles[[0, -1]] == c.poles[[0, -1]])
+    assert np.count_nonzero(np.abs(new.poles - c.poles).max(axis=1)) <= c.degree + 2
+
+
+def test_one_push_is_the_papers_formula_with_the_least_norm_factor():
+    c = wavy()
+    t, d = 0.37, np.array([0.0, 2.0, 5.0])
+    row = dp.curve_row(c, t)
+    window = np.nonzero(row)[0]                       # the degree + 1 poles at t (paper: m = 3)
+    new = dp.push_curve(c, t, at(c, t) + d, len(window))
+    w = row[window]
+    np.testing.assert_allclose(new.poles[window] - c.poles[window], np.outer(w, d) / (w @ w),
+                               atol=1e-12)
+
+
+def test_knot_insertion_keeps_the_curve():
+    c = wavy()
+    U, P, w = dp.insert_knot(c.knots, c.degree, c.poles, c.weights, 0.41, 3)
+    refined = dp.Curve(P, w, U, c.degree)
+    ts = np.linspace(0, 1, 101)
+    assert np.abs(at(refined, ts) - at(c, ts)).max() < 1e-12
+    assert len(P) == len(c.poles) + 3
+    assert np.abs(P[dp.pole_at(refined, 0.41)] - at(c, 0.41)).max() < 1e-12   # on the curve
+
+
+def test_fixed_point_keeps_position_and_tangent_under_a_push_next_to_it():
+    c = wavy()
+    tf = 0.5
+    fixed = dp.curve_with_knot(c, tf, c.degree)
+    k = dp.pole_at(fixed, tf)
+    before, tangent = at(c, tf), at(c, tf, 1)
+    pushed = dp.push_curve(fixed, 0.42, at(c, 0.42) + [0, 6, 2], c.degree + 2, [k - 1, k, k + 1])
+    assert np.abs(at(pushed, 0.42) - at(c, 0.42) - [0, 6, 2]).max() < 1e-9
+    assert np.abs(at(pushed, tf) - before).max() < 1e-12
+    for side in (tf - 1e-12, tf + 1e-12):
+        d = at(pushed, side, 1)
+        angle = np.arccos(np.clip(d @ tangent / np.linalg.norm(d) / np.linalg.norm(tangent), -1, 1))
+        assert angle < 1e-7
+
+
+def test_straight_span_is_straight_and_stays_straight():
+    c = wavy()
+    s, group = dp.make_straight(c, 0.6, 0.8)
+    pushed = dp.push_curve(s, 0.5, at(s, 0.5) + [0, 0, 5], c.degree + 2, (), [group])
+    for curve in (s, pushed):
+        pts = at(curve, np.linspace(0.6, 0.8, 41))
+        d = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
+        off = pts - pts[0]
+        assert np.abs(off - np.outer(off @ d, d)).max() < 1e-9
+    assert np.abs(at(pushed, 0.5) - at(s, 0.5) - [0, 0, 5]).max() < 1e-9
+
+
+def test_angle_has_straight_legs_at_the_angle_and_lengths_asked():
+    c = wavy()
+    a, _ = dp.make_angle(c, 0.5, np.radians(60), (6.0, 9.0), corner=[40, 5, 1])
+    corner = at(a, 0.5)
+    np.testing.assert_allclose(corner, [40, 5, 1], atol=1e-12)
+    k = dp.pole_at(a, 0.5)
+    p = c.degree
+    legs = a.poles[k - p] - corner, a.poles[k + p] - corner
+    assert np.linalg.norm(legs[0]) == pytest.approx(6.0) and np.linalg.norm(legs[1]) == pytest.approx(9.0)
+    cos = legs[0] @ legs[1] / np.linalg.norm(legs[0]) / np.linalg.norm(legs[1])
+    assert np.degrees(np.arccos(cos)) == pytest.approx(60.0, abs=1e-9)
+    for side in (np.linspace(0.5 - 0.1, 0.5, 20), np.linspace(0.5, 0.6, 20)):
+        pts = at(a, side)                            # each leg a straight segment
+        d = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
+        off = pts - pts[0]
+        assert np.abs(off - np.outer(off @ d, d)).max() < 1e-9
+
+
+def test_contradicting_constraints_are_refused():
+    c = wavy()
+    k = len(c.poles) // 2
+    with pytest.raises(DeformError, match="contradict"):
+        # the only movable poles are held: nothing can move the point
+        dp.least_norm(len(c.poles), [k], [np.eye(len(c.poles))[k], np.eye(len(c.poles))[k]],
+                      [[0, 0, 1], [0, 0, 2]])
+
+
+def test_surface_push_along_the_normal_lands_and_the_border_stays():
+    s = canopy()
+    u, v = 0.37, 0.61
+    P = s.poles.reshape(-1, 3)
+    point = dp.surface_row(s, u, v) @ P
+    n = np.cross(dp.surface_row(s, u, v, 1, 0) @ P, dp.surface_row(s, u, v, 0, 1) @ P)
+    target = point + 5 * n / np.linalg.norm(n)
+    new = dp.push_surface(s, u, v, target, 5)
+    su = BSpline(s.uknots, new.poles, 3)(u)            # the test's own evaluation
+    assert np.abs(BSpline(s.vknots, su, 3)(v) - target).max() < 1e-9
+    border = np.ones((6, 6), bool)
+    border[1:-1, 1:-1] = False
+    assert np.all(new.poles[border] == s.poles[border])
+
+
+def test_surface_fixed_point_keeps_position_and_tangent_plane():
+    s = canopy()
+    P = s.poles.reshape(-1, 3)
+    f = (0.55, 0.5)
+    rows = [dp.surface_row(s, *f, du, dv) for du, dv in ((0, 0), (1, 0), (0, 1))]
+    new = dp.push_surface(s, 0.35, 0.45, dp.surface_row(s, 0.35, 0.45) @ P + [0, 0, 4], 5, [f])
+    Q = new.poles.reshape(-1, 3)
+    for r in rows:
+        assert np.abs(r @ Q - r @ P).max() < 1e-9
+
+
+def test_closest_parameters_find_points_on_curves_and_surfaces():
+    c = wavy()
+    t, d = dp.closest_parameter(c, at(c, 0.3141))
+    assert abs(t - 0.3141) < 1e-9 and d < 1e-9
+    s = canopy()
+    x = dp.surface_row(s, 0.27, 0.83) @ s.poles.reshape(-1, 3)
+    u, v, d = dp.closest_uv(s, x)
+    assert abs(u - 0.27) < 1e-9 and abs(v - 0.83) < 1e-9 and d < 1e-9
+
+
+def test_bezier_patch_of_a_planar_quad_is_exact():
+    corners = [[0, 0, 10], [20, 0, 10], [20, 30, 10], [0, 30, 10]]
+    s = dp.bezier_patch(corners)
+    P = s.poles.reshape(-1, 3)
+    for u, v in ((0, 0), (1, 0), (1, 1), (0, 1), (0.3, 0.7)):
+        np.testing.assert_allclose(dp.surface_row(s, u, v) @ P,
+                                   [20 * u, 30 * v, 10], atol=1e-12)
