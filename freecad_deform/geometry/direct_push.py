@@ -219,14 +219,16 @@ def make_angle(c, t, angle, legs, corner=None):
 
 def push_curve(c, t, target, size, held=(), groups=()):
     """The curve with C(t) moved exactly to `target`, moving at most `size` poles around t
-    (never the two end poles, nor `held`), least-norm; groups move as one."""
+    (never the two end poles, nor `held`), least-norm. `groups` are the poles of straight
+    spans: a push on a span moves its group as one (it stays straight), a push beside it
+    leaves the group where it is."""
     n = len(c.poles)
     row = curve_row(c, t)
-    movable = [i for i in window(row, size, 1, n - 2) if i not in set(held)]
-    for g in groups:
-        if set(g) & set(movable):
-            movable += [i for i in g if i not in movable and 0 < i < n - 1
-                        and i not in set(held)]
+    on = [g for g in groups if np.any(row[g] > 0) and set(np.nonzero(row)[0]) <= set(g)]
+    held = set(held) | {i for g in groups if g not in on for i in g}
+    movable = [i for i in window(row, size, 1, n - 2) if i not in held]
+    for g in on:
+        movable += [i for i in g if i not in movable and 0 < i < n - 1 and i not in held]
     d = np.asarray(target, float) - row @ c.poles
     D = least_norm(n, movable, [row], [d], groups)
     return c._replace(poles=c.poles + D)

@@ -159,3 +159,16 @@ def test_bezier_patch_of_a_planar_quad_is_exact():
     for u, v in ((0, 0), (1, 0), (1, 1), (0, 1), (0.3, 0.7)):
         np.testing.assert_allclose(dp.surface_row(s, u, v) @ P,
                                    [20 * u, 30 * v, 10], atol=1e-12)
+
+
+def test_a_push_on_a_straight_span_moves_it_whole_and_keeps_it_straight():
+    c = wavy()
+    s, group = dp.make_straight(c, 0.4, 0.7)
+    target = at(s, 0.55) + [0, 0, 3]
+    pushed = dp.push_curve(s, 0.55, target, c.degree + 2, (), [group])
+    assert np.abs(at(pushed, 0.55) - target).max() < 1e-9
+    moves = pushed.poles[group] - s.poles[group]
+    assert np.abs(moves - moves[0]).max() < 1e-12 and np.abs(moves[0]).max() > 0
+    pts = at(pushed, np.linspace(0.4, 0.7, 31))
+    d = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
+    assert np.abs((pts - pts[0]) - np.outer((pts - pts[0]) @ d, d)).max() < 1e-9

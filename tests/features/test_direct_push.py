@@ -1,0 +1,191 @@
+"""DirectPush on real FreeCAD documents: an interpolated curve, a bicubic 6x6 surface, the top
+face of a box, a circle (converted), bad input, undo, save and reopen.
+
+Oracles: OCCT's own distToShape, Curve.value/tangent and Surface.getPoles on the results;
+OCCT's Volume and isValid for the solid; the corners and face types of the box.
+"""
+import os
+import tempfile
+import unittest
+
+from . import fc
+
+import FreeCAD as App  # noqa: E402
+import numpy as np  # noqa: E402
+import Part  # noqa: E402
+
+import freecad_deform as fd  # noqa: E402
+
+from .test_area_constrain import canopy_surface  # noqa: E402
+
+V = App.Vector
+
+
+def wavy_curve():
+    curve = Part.BSplineCurve()
+    curve.interpolate([V(x, 10 * np.sin(x / 15.0), 2 * np.cos(x / 25.0))
+                       for x in np.linspace(0, 70, 8)])
+    return curve
+
+
+def distance(shape, point):
+    return shape.distToShape(Part.Vertex(point))[0]
+
+
+class PushCase(unittest.TestCase):
+    def setUp(self):
+        self.doc = fc.new_document("DirectPush")
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def feature(self, shape, name):
+        obj = self.doc.addObject("Part::Feature", name)
+        obj.Shape = shape
+        self.doc.recompute()
+        return obj
+
+    def assertValid(self, obj):
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+
+
+class TestCurves(PushCase):
+    def setUp(self):
+        super().setUp()
+        self.curve = wavy_curve()
+        self.base = self.feature(self.curve.toShape(), "Curve")
+        self.point = self.curve.value(0.4 * self.curve.LastParameter)
+
+    def test_push_lands_and_the_ends_stay(self):
+        target = self.point + V(0, 3, 5)
+        obj = fd.make_direct_push(self.base, "Edge1", self.point, target)
+        self.assertValid(obj)
+        edge = obj.Shape.Edges[0]
+        self.assertLess(distance(edge, target), 1e-7)
+        for a, b in zip(edge.Vertexes, self.base.Shape.Vertexes):
+            self.assertEqual((a.Point - b.Point).Length, 0.0)
+        self.assertGreater(obj.MaxPoleMove, 0)
+
+    def test_fixed_point_near_the_push(self):
+        fixed = self.curve.value(0.5 * self.curve.LastParameter)
+        tangent = self.curve.tangent(0.5 * self.curve.LastParameter)[0]
+        target = self.point + V(0, 4, 3)
+        obj = fd.make_direct_push(self.base, "Edge1", self.point, target, fixed=[fixed])
+        self.assertValid(obj)
+        edge = obj.Shape.Edges[0]
+        self.assertLess(distance(edge, target), 1e-7)
+        self.assertLess(distance(edge, fixed), 1e-9)
+        new = edge.Curve
+        t = new.parameter(fixed)
+        for side in (t - 1e-10, t + 1e-10):
+            self.assertLess(new.tangent(side)[0].getAngle(tangent), 1e-7)
+
+    def test_straight_span_beside_the_push(self):
+        a = self.curve.value(0.6 * self.curve.LastParameter)
+        b = self.curve.value(0.8 * self.curve.LastParameter)
+        target = self.point + V(0, 0, 4)
+        obj = fd.make_direct_push(self.base, "Edge1", self.point, target, straight=[(a, b)])
+        self.assertValid(obj)
+        new = obj.Shape.Edges[0].Curve
+        self.assertLess(distance(obj.Shape, target), 1e-7)
+        ta, tb = new.parameter(a), new.parameter(b)
+        pts = [new.value(ta + (tb - ta) * k / 40) for k in range(41)]
+        d = pts[-1] - pts[0]
+        self.assertLess(max((p - pts[0]).cross(d).Length / d.Length for p in pts), 1e-9)
+
+    def test_angle_and_several_pushes_stay_editable(self):
+        corner = self.curve.value(0.55 * self.curve.LastParameter)
+        obj = fd.make_direct_push(self.base, "Edge1", self.point, self.point + V(0, 0, 2),
+                                  angles=[(corner, 90, 5, 5)])
+        self.assertValid(obj)
+        second = self.curve.value(0.2 * self.curve.LastParameter)
+        obj.Points = list(obj.Points) + [second]
+        obj.Targets = list(obj.Targets) + [second + V(0, -3, 0)]
+        self.doc.recompute()
+        self.assertValid(obj)
+        edge = obj.Shape.Edges[0]
+        self.assertLess(distance(edge, second + V(0, -3, 0)), 1e-7)
+        self.assertLess(distance(edge, corner), 1e-9)        # the corner stays where asked
+        obj.Points, obj.Targets = [obj.Points[1]], [obj.Targets[1]]   # the first removed
+        self.doc.recompute()
+        self.assertValid(obj)
+
+    def test_a_circle_edge_is_converted(self):
+        circle = self.feature(Part.makeCircle(10), "Circle")
+        p = V(0, 10, 0)                                  # away from the seam (the ends stay)
+        obj = fd.make_direct_push(circle, "Edge1", p, V(0, 13, 1))
+        self.assertValid(obj)
+        self.assertIn("Circle converted exactly", obj.Conversion)
+        self.assertLess(distance(obj.Shape, V(0, 13, 1)), 1e-7)
+
+    def test_bad_input_names_the_problem_and_the_base_stays(self):
+        before = [tuple(p) for p in self.base.Shape.Edges[0].Curve.getPoles()]
+        obj = fd.make_direct_push(self.base, "Edge5", self.point, self.point + V(0, 0, 1))
+        self.assertIn("Edge5", obj.getStatusString())
+        obj.Element = "Edge1"
+        obj.Points = [self.point + V(0, 0, 3)]
+        self.doc.recompute()
+        self.assertIn("Points[0] is not on Edge1", obj.getStatusString())
+        obj.Points = [self.point]
+        obj.Targets = []
+        self.doc.recompute()
+        self.assertIn("Targets", obj.getStatusString())
+        self.assertEqual([tuple(p) for p in self.base.Shape.Edges[0].Curve.getPoles()], before)
+
+
+class TestSurfaces(PushCase):
+    def test_bicubic_surface_pushed_along_its_normal(self):
+        surface = canopy_surface()
+        base = self.feature(Part.Face(surface), "Canopy")
+        u, v = 0.37, 0.61
+        point = surface.value(u, v)
+        target = point + surface.normal(u, v) * 5
+        obj = fd.make_direct_push(base, "Face1", point, target)
+        self.assertValid(obj)
+        self.assertLess(distance(obj.Shape, target), 1e-7)
+        old = np.array([[tuple(p) for p in row] for row in surface.getPoles()])
+        new = np.array([[tuple(p) for p in row] for row in obj.Shape.Faces[0].Surface.getPoles()])
+        border = np.ones(old.shape[:2], bool)
+        border[1:-1, 1:-1] = False
+        np.testing.assert_array_equal(new[border], old[border])
+        self.assertTrue(np.abs(new - old).max() > 0)
+
+    def test_box_top_pushed_up_stays_one_closed_valid_solid(self):
+        box = self.feature(Part.makeBox(20, 20, 10), "Box")
+        top = next(i for i, f in enumerate(box.Shape.Faces) if abs(f.CenterOfMass.z - 10) < 1e-9)
+        obj = fd.make_direct_push(box, f"Face{top + 1}", V(10, 10, 10), V(10, 10, 14))
+        self.assertValid(obj)
+        shape = obj.Shape
+        self.assertTrue(shape.isValid())
+        self.assertEqual(len(shape.Solids), 1)
+        self.assertTrue(shape.Shells[0].isClosed())
+        self.assertGreater(shape.Volume, box.Shape.Volume)
+        planes = [f for f in shape.Faces if f.Surface.TypeId == "Part::GeomPlane"]
+        self.assertEqual(len(planes), 5)
+        corners = sorted(tuple(round(c, 12) for c in v.Point) for v in shape.Vertexes)
+        self.assertEqual(corners, sorted(tuple(round(c, 12) for c in v.Point)
+                                         for v in box.Shape.Vertexes))
+        self.assertLess(distance(shape, V(10, 10, 14)), 1e-6)
+        self.assertIn("Bezier", obj.Conversion)
+
+    def test_undo_and_reopen(self):
+        box = self.feature(Part.makeBox(20, 20, 10), "Box")
+        before = len(self.doc.Objects)
+        obj = fd.make_direct_push(box, "Face6", V(10, 10, 10), V(10, 10, 12))
+        name = obj.Name
+        self.doc.undo()
+        self.assertEqual(len(self.doc.Objects), before)
+        self.doc.redo()
+        path = os.path.join(tempfile.mkdtemp(), "push.FCStd")
+        self.doc.saveAs(path)
+        App.closeDocument(self.doc.Name)
+        self.doc = App.openDocument(path)
+        again = self.doc.getObject(name)
+        again.Targets = [V(10, 10, 13)]
+        self.doc.recompute()
+        self.assertValid(again)
+        self.assertLess(distance(again.Shape, V(10, 10, 13)), 1e-6)
+
+
+if __name__ == "__main__":
+    unittest.main()
