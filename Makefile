@@ -19,3 +19,4 @@ bench: deps
 	$(PY) benchmarks/bench_bend_twist.py
 	$(PY) benchmarks/bench_dimension_drive.py
 	$(PY) benchmarks/bench_area_constrain.py
+	$(PY) benchmarks/bench_direct_push.py

@@ -54,14 +54,15 @@ def surface_row(s, u, v, du=0, dv=0):
     nu, nv = s.weights.shape
     Nu = basis(s.uknots, s.udegree, nu, u)[0]
     Nv = basis(s.vknots, s.vdegree, nv, v)[0]
-    dNu = basis(s.uknots, s.udegree, nu, u, 1)[0]
-    dNv = basis(s.vknots, s.vdegree, nv, v, 1)[0]
     w = s.weights
     R = np.outer(Nu, Nv) * w
     W = R.sum()
     if not (du or dv):
         return (R / W).ravel()
-    D = (np.outer(dNu, Nv) if du else np.outer(Nu, dNv)) * w
+    if du:
+        D = np.outer(basis(s.uknots, s.udegree, nu, u, 1)[0], Nv) * w
+    else:
+        D = np.outer(Nu, basis(s.vknots, s.vdegree, nv, v, 1)[0]) * w
     return (D / W - R * D.sum() / W**2).ravel()
 
 

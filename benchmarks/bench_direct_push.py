@@ -1,0 +1,138 @@
+"""DirectPush benchmark: one push on a 30 x 30-pole bicubic surface next to OCCT's own
+BSplineSurface.movePoint (which FreeCAD exposes) in the same run, and the frame rate of a
+drag loop.
+
+Run from anywhere (FreeCAD 0.20 on Debian):
+
+    /usr/bin/python3 benchmarks/bench_direct_push.py            # median of 5 runs
+    /usr/bin/python3 benchmarks/bench_direct_push.py --quick    # 1 run
+
+Prints tables, asserts nothing about time. Both pushes move the poles around the point
+(5 x 5 for ours, the paper's m = degree + 1; the same index range for movePoint) so the
+point lands on the target. The drag loop is what a live drag does per mouse move without
+a document recompute: one push on the current surface and the Part face rebuilt from its
+poles (what the viewer then shows); frames per second = 1 / (median time of one frame).
+A document recompute of the DirectPush object (all pushes replayed from the Base, face
+rebuilt) is timed too.
+"""
+import argparse
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+from bench_stretch import Timer, machine_line, print_table, run_as_script  # noqa: E402
+
+import FreeCAD as App  # noqa: E402
+import numpy as np  # noqa: E402
+import Part  # noqa: E402
+
+import freecad_deform as fd  # noqa: E402
+from freecad_deform.geometry import direct_push as dp  # noqa: E402
+from freecad_deform.shapes import bspline  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(__file__))),
+                                "tests", "geometry"))
+from canopy import canopy  # noqa: E402
+
+V = App.Vector
+
+
+def ms(t):
+    return f"{1e3 * t:.3f} ms"
+
+
+def push_rows(timer, n):
+    s = canopy(n, size=(100.0, 100.0))
+    occ = bspline.surface_from_arrays(s)
+    u, v = 0.43, 0.57
+    P = s.poles.reshape(-1, 3)
+    point = dp.surface_row(s, u, v) @ P
+    normal = np.cross(dp.surface_row(s, u, v, 1, 0) @ P, dp.surface_row(s, u, v, 0, 1) @ P)
+    target = point + 3.0 * normal / np.linalg.norm(normal)
+    size = s.udegree + 2
+    result = {}
+
+    def ours():
+        result["s"] = dp.push_surface(s, u, v, target, size)
+
+    grid = np.abs(dp.surface_row(s, u, v).reshape(s.weights.shape))
+    iu = dp.window(grid.sum(axis=1), size, 1, n - 2)
+    iv = dp.window(grid.sum(axis=0), size, 1, n - 2)
+
+    def theirs():
+        surface = occ.copy()
+        surface.movePoint(u, v, V(*target), iu[0] + 1, iu[-1] + 1, iv[0] + 1, iv[-1] + 1)
+        result["occ"] = surface
+
+    t_ours, n1 = timer.median(ours)
+    t_occ, n2 = timer.median(theirs)
+    landed = np.abs(dp.surface_row(result["s"], u, v) @ result["s"].poles.reshape(-1, 3)
+                    - target).max()
+    landed_occ = (result["occ"].value(u, v) - V(*target)).Length
+    return [("push (kernel)", f"{n}x{n} poles", n1, ms(t_ours), f"{landed:.1e}"),
+            ("movePoint (OCCT)", f"{n}x{n} poles", n2, ms(t_occ), f"{landed_occ:.1e}")]
+
+
+def drag_rows(timer, n, frames=30):
+    s0 = canopy(n, size=(100.0, 100.0))
+    u, v = 0.43, 0.57
+    P = s0.poles.reshape(-1, 3)
+    start = dp.surface_row(s0, u, v) @ P
+    normal = np.cross(dp.surface_row(s0, u, v, 1, 0) @ P, dp.surface_row(s0, u, v, 0, 1) @ P)
+    normal /= np.linalg.norm(normal)
+
+    def drag():
+        s = s0
+        times = []
+        for k in range(1, frames + 1):
+            t = time.perf_counter()
+            s = dp.push_surface(s, u, v, start + 0.1 * k * normal, s0.udegree + 2)
+            Part.Face(bspline.surface_from_arrays(s))
+            times.append(time.perf_counter() - t)
+        return float(np.median(times))
+
+    frame, runs = timer.median(drag)
+    return [("drag loop: push + face rebuild", f"{n}x{n} poles, {frames} moves", runs,
+             ms(frame), f"{1 / frame:.0f} frames/s")]
+
+
+def recompute_rows(timer, n):
+    doc = App.newDocument("BenchDirectPush")
+    try:
+        s = canopy(n, size=(100.0, 100.0))
+        base = doc.addObject("Part::Feature", "Surface")
+        base.Shape = Part.Face(bspline.surface_from_arrays(s))
+        doc.recompute()
+        P = s.poles.reshape(-1, 3)
+        point = dp.surface_row(s, 0.43, 0.57) @ P
+        obj = fd.make_direct_push(base, "Face1", V(*point), V(*(point + [0, 0, 3])))
+
+        def run():
+            obj.touch()
+            doc.recompute()
+            if "Invalid" in obj.State:
+                raise RuntimeError(obj.getStatusString())
+        t, runs = timer.median(run)
+        return [("document recompute", f"{n}x{n} poles, 1 push", runs, ms(t), "")]
+    finally:
+        App.closeDocument(doc.Name)
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--budget", type=float, default=60.0)
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args(argv)
+    timer = Timer(1 if args.quick else args.runs, args.budget)
+    print(machine_line())
+    print_table("One push on a 30x30-pole surface, and OCCT's movePoint in the same run",
+                ("case", "input", "runs", "time", "landing error"),
+                push_rows(timer, 30) + recompute_rows(timer, 30))
+    print_table("Drag loop (per mouse move, no document recompute)",
+                ("case", "input", "runs", "time per frame", "rate"),
+                drag_rows(timer, 20) + drag_rows(timer, 30))
+
+
+run_as_script(main, __name__, __file__)
