@@ -152,6 +152,8 @@ class DirectPush(DeformFeature):
             if d > tol:
                 u, v, d = dp.closest_uv(start, x)
             self._on(d, tol, f"Points[{i}]", obj.Element)
+            if min(s.weights.shape) < 3:  # no interior pole in one direction (a cylinder)
+                s = dp.refine_surface(s, u, v, 1)
             s = dp.push_surface(s, u, v, target, size, fixed)
         new_face = Part.Face(bspline.surface_from_arrays(s))
         outputs = {"MaxPoleMove": self._moves(start, s), "PoleCount": int(s.weights.size),

@@ -267,6 +267,28 @@ def push_surface(s, u, v, target, size, fixed=()):
     return s._replace(poles=s.poles + D.reshape(s.poles.shape))
 
 
+def refine_surface(s, u, v, size):
+    """Insert knots next to (u, v) in each direction that has fewer than `size` interior
+    poles (the paper's note a: the number of poles may change)."""
+    for axis in (0, 1):
+        knots = s.uknots if axis == 0 else s.vknots
+        degree = s.udegree if axis == 0 else s.vdegree
+        t = u if axis == 0 else v
+        while s.weights.shape[axis] - 2 < size:
+            k = int(np.clip(np.searchsorted(knots, t, side="right") - 1, degree,
+                            len(knots) - degree - 2))
+            mid = (knots[k] + knots[k + 1]) / 2
+            P, w = s.poles, s.weights
+            if axis == 1:
+                P, w = P.swapaxes(0, 1), w.T
+            knots, P, w = insert_knot(knots, degree, P, w, mid, 1)
+            if axis == 1:
+                P, w = P.swapaxes(0, 1), w.T
+            s = s._replace(poles=P, weights=w, **({"uknots": knots} if axis == 0
+                                                  else {"vknots": knots}))
+    return s
+
+
 def bezier_patch(corners, degree=3):
     """A degree x degree Bezier surface with the bilinear grid of 4 corners as poles: the
     exact B-spline form of a planar four-sided face (Pratt): corners (00, 10, 11, 01)."""

@@ -168,6 +168,18 @@ class TestSurfaces(PushCase):
         self.assertLess(distance(shape, V(10, 10, 14)), 1e-6)
         self.assertIn("Bezier", obj.Conversion)
 
+    def test_cylinder_face_is_converted_refined_and_sewn_back(self):
+        """The side of a cylinder converts to 2 rows of poles along the axis: knots are
+        inserted so a pole can move, and the solid closes again."""
+        cyl = self.feature(Part.makeCylinder(5, 20), "Cylinder")
+        obj = fd.make_direct_push(cyl, "Face1", V(0, 5, 10), V(0, 8, 10))
+        self.assertValid(obj)
+        self.assertIn("Cylinder converted exactly", obj.Conversion)
+        self.assertTrue(obj.Shape.isValid())
+        self.assertEqual(len(obj.Shape.Solids), 1)
+        self.assertGreater(obj.Shape.Volume, cyl.Shape.Volume)
+        self.assertLess(distance(obj.Shape, V(0, 8, 10)), 1e-6)
+
     def test_undo_and_reopen(self):
         box = self.feature(Part.makeBox(20, 20, 10), "Box")
         before = len(self.doc.Objects)

@@ -172,3 +172,38 @@ def test_a_push_on_a_straight_span_moves_it_whole_and_keeps_it_straight():
     pts = at(pushed, np.linspace(0.4, 0.7, 31))
     d = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
     assert np.abs((pts - pts[0]) - np.outer((pts - pts[0]) @ d, d)).max() < 1e-9
+
+
+def test_surface_refinement_keeps_the_surface_and_adds_interior_poles():
+    s = canopy(4)                                       # a Bezier patch: 2 x 2 interior poles
+    r = dp.refine_surface(s, 0.3, 0.6, 4)
+    assert r.weights.shape[0] - 2 >= 4 and r.weights.shape[1] - 2 >= 4
+    for u, v in ((0.1, 0.2), (0.3, 0.6), (0.9, 0.45)):
+        a = dp.surface_row(s, u, v) @ s.poles.reshape(-1, 3)
+        b = dp.surface_row(r, u, v) @ r.poles.reshape(-1, 3)
+        assert np.abs(a - b).max() < 1e-12
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(0.1, 0.9), st.floats(-15, 15), st.floats(2, 15))
+def test_condition_1_the_curve_ends_on_the_far_side_of_the_cursor_path(t, slide, depth):
+    """The paper's Condition 1, in the plane of a flat curve: the pushed curve does not
+    cross the cursor's path m0 -> m1 before its end m1 (where the point landed)."""
+    c = wavy()
+    c = c._replace(poles=c.poles * [1, 1, 0])
+    p = at(c, t)
+    normal = np.array([-at(c, t, 1)[1], at(c, t, 1)[0], 0.0])
+    normal /= np.linalg.norm(normal)
+    m0 = p - 2 * normal + [slide * 0.1, 0, 0]
+    m1 = p + depth * normal
+    new = dp.push_curve(c, t, m1, c.degree + 2)
+    pts = at(new, np.linspace(0, 1, 4001))[:, :2]
+    a, b = m0[:2], m1[:2] - 0.01 * (m1[:2] - m0[:2])        # the path, short of its end
+
+    def cross(o, x, y):
+        return (x[..., 0] - o[0]) * (y[..., 1] - o[1]) - (x[..., 1] - o[1]) * (y[..., 0] - o[0])
+    q, r = pts[:-1], pts[1:]
+    s1, s2 = cross(a, b, q), cross(a, b, r)
+    s3 = (r[:, 0] - q[:, 0]) * (a[1] - q[:, 1]) - (r[:, 1] - q[:, 1]) * (a[0] - q[:, 0])
+    s4 = (r[:, 0] - q[:, 0]) * (b[1] - q[:, 1]) - (r[:, 1] - q[:, 1]) * (b[0] - q[:, 0])
+    assert not np.any((s1 * s2 < 0) & (s3 * s4 < 0))
