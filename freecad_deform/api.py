@@ -129,7 +129,8 @@ def _vectors(points):
 def make_direct_push(base, element, point, target, **options):
     """Push `point` of `element` ("EdgeN" or "FaceN" of base) to `target`; the poles and
     knots follow. Options: range (the paper's m), fixed=[points], straight=[(point_a,
-    point_b)], angles=[(corner, degrees, leg_before, leg_after)]."""
+    point_b)], angles=[(corner, degrees, leg_before, leg_after)], blend=["EdgeN", ...] (faces
+    of a solid: Pratt's C1 rounding of those edges)."""
     values = {"Element": str(element), "Points": _vectors([point]),
               "Targets": _vectors([target])}
     if "range" in options:
@@ -142,6 +143,8 @@ def make_direct_push(base, element, point, target, **options):
         values["Angles"] = [App.Vector(*v) for corner, degrees, before, after in
                             options.pop("angles")
                             for v in (tuple(corner), (degrees, before, after))]
+    if "blend" in options:
+        values["Blend"] = [str(e) for e in options.pop("blend")]
     if options:
         raise TypeError(f"make_direct_push() got unknown options {sorted(options)}")
     return _make(DirectPush, base, values)

@@ -48,6 +48,10 @@ class DirectPush(DeformFeature):
         Prop("App::PropertyVectorList", "Angles", "Constraints",
              "Edges only: pairs of vectors (corner, (angle in degrees, leg before, leg "
              "after)): a cusp at the corner with straight legs at that angle."),
+        Prop("App::PropertyStringList", "Blend", "Constraints",
+             "Faces of a solid: edges (Edge1, ...) rounded the way Pratt proposes: the poles "
+             "the two faces share along the edge go midway between their neighbours, so "
+             "the faces meet with C1 (planar four-sided faces)."),
         Prop("App::PropertyFloat", "MaxPoleMove", "Result",
              "The largest distance a pole moved, mm.", output=True),
         Prop("App::PropertyInteger", "PoleCount", "Result",
@@ -146,7 +150,7 @@ class DirectPush(DeformFeature):
             u, v, d = dp.closest_uv(s, np.array(tuple(x)))
             self._on(d, tol, f"Fixed[{i}]", obj.Element)
             fixed.append((u, v))
-        start = s
+        start, landed = s, []
         for i, (x, target) in enumerate(pushes):
             u, v, d = dp.closest_uv(s, x)
             if d > tol:
@@ -155,13 +159,96 @@ class DirectPush(DeformFeature):
             if min(s.weights.shape) < 3:  # no interior pole in one direction (a cylinder)
                 s = dp.refine_surface(s, u, v, 1)
             s = dp.push_surface(s, u, v, target, size, fixed)
-        new_face = Part.Face(bspline.surface_from_arrays(s))
+            landed.append((u, v, target))
         outputs = {"MaxPoleMove": self._moves(start, s), "PoleCount": int(s.weights.size),
                    "Conversion": note}
         if not solid:
-            return new_face, outputs
-        result = bspline.replaced(shape, index, new_face)
+            if len(obj.Blend):
+                raise DeformError("Blend needs a face of a solid or shell.", "Blend")
+            return Part.Face(bspline.surface_from_arrays(s)), outputs
+        patches, inner = {index: s}, set()
+        for name in obj.Blend:
+            inner |= self._blend(shape, patches, name, tol).get(index, set())
+        if obj.Blend and landed:
+            patches[index] = self._reland(patches[index], landed, inner)
+        result = bspline.replaced_all(shape, {i: Part.Face(bspline.surface_from_arrays(p))
+                                              for i, p in patches.items()})
         if result is None:
             raise DeformError(f"{obj.Element} could not be sewn back into the Base after the "
                               "push; push less far or pick another point.", "Targets")
         return result, outputs
+
+    @staticmethod
+    def _blend(shape, patches, name, tol):
+        """Pratt's rounding of edge `name`: its two faces as bicubic Bezier patches, every
+        pole they share along it put midway between its neighbours on either face (C1
+        across the edge). Each end pole moves within the plane of the third face at that
+        corner, which becomes a patch too, so the solid stays closed."""
+        _, edge = bspline.edge_of(shape, name, "Blend")
+        faces = [i for i, f in enumerate(shape.Faces) if any(e.isSame(edge) for e in f.Edges)]
+        ends = [np.array(tuple(v.Point)) for v in edge.Vertexes]
+        if len(faces) != 2:
+            raise DeformError(f"Blend {name} is not an edge between two faces.", "Blend")
+        for i in faces:
+            patches.setdefault(i, _patch(shape.Faces[i], name))
+        rows = [bspline_row(patches[i], ends, tol, name) for i in faces]
+        (a, ra), (b, rb) = zip(faces, rows)
+        A, B = patches[a].poles.copy(), patches[b].poles.copy()
+        shared = 0.5 * (A[ra[1]] + B[rb[1]])
+        for corner, end in ((0, ends[0]), (-1, ends[1])):
+            thirds = [i for i, f in enumerate(shape.Faces) if i not in faces and any(
+                np.linalg.norm(np.array(tuple(v.Point)) - end) <= tol for v in f.Vertexes)]
+            if len(thirds) != 1:
+                raise DeformError(f"Blend {name}: three faces must meet at each end of the "
+                                  "edge.", "Blend")
+            c = thirds[0]
+            patches.setdefault(c, _patch(shape.Faces[c], name))
+            C = patches[c].poles.copy()
+            k = np.argmin(np.linalg.norm(C - end, axis=2))
+            C[np.unravel_index(k, C.shape[:2])] = shared[corner]
+            patches[c] = patches[c]._replace(poles=C)
+        A[ra[0]], B[rb[0]] = shared, shared
+        patches[a], patches[b] = patches[a]._replace(poles=A), patches[b]._replace(poles=B)
+        return {i: set(np.ravel_multi_index(r[1], patches[i].weights.shape).tolist())
+                for i, r in zip(faces, rows)}
+
+    @staticmethod
+    def _reland(s, landed, held):
+        """The pushed points back on their targets after a blend moved the patch's border:
+        a least-norm correction of the interior poles, keeping the rows that make the
+        blend C1 (`held`)."""
+        nu, nv = s.weights.shape
+        P = s.poles.reshape(-1, 3)
+        rows = [dp.surface_row(s, u, v) for u, v, _ in landed]
+        rhs = [t - r @ P for r, (_, _, t) in zip(rows, landed)]
+        movable = [i * nv + j for i in range(1, nu - 1) for j in range(1, nv - 1)
+                   if i * nv + j not in held]
+        D = dp.least_norm(nu * nv, movable, rows, rhs)
+        return s._replace(poles=(P + D).reshape(s.poles.shape))
+
+
+def _patch(face, name):
+    corners = bspline.quad_corners(face)
+    if corners is None:
+        raise DeformError(f"Blend {name}: its faces and the faces at its ends must be planar "
+                          "and four-sided (they become Bezier patches).", "Blend")
+    return dp.bezier_patch(corners)
+
+
+def bspline_row(patch, ends, tol, name):
+    """(index of the border row along the edge from ends[0] to ends[1], index of the row
+    next to it inside), as numpy index tuples into patch.poles, ordered like the edge."""
+    nu, nv = patch.weights.shape
+    iu, iv = np.arange(nu), np.arange(nv)
+    borders = [((np.zeros(nv, int), iv), (np.ones(nv, int), iv)),
+               ((np.full(nv, nu - 1), iv), (np.full(nv, nu - 2), iv)),
+               ((iu, np.zeros(nu, int)), (iu, np.ones(nu, int))),
+               ((iu, np.full(nu, nv - 1)), (iu, np.full(nu, nv - 2)))]
+    for row, inner in borders:
+        for flip in (False, True):
+            r = tuple(x[::-1] for x in row) if flip else row
+            pts = patch.poles[r]
+            if np.linalg.norm(pts[0] - ends[0]) <= tol and np.linalg.norm(pts[-1] - ends[1]) <= tol:
+                return r, (tuple(x[::-1] for x in inner) if flip else inner)
+    raise DeformError(f"Blend {name} is not along the border of its face's patch (was the "
+                      "face refined?).", "Blend")

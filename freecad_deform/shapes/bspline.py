@@ -160,13 +160,18 @@ def with_poles(surface, poles):
 def replaced(shape, index, face):
     """`shape` (one shell or one solid) with face `index` replaced by `face`, sewn; None
     when the shape is not a single shell or solid or the result is not valid."""
+    return replaced_all(shape, {index: face})
+
+
+def replaced_all(shape, faces_by_index):
+    """replaced() for several faces at once: {index: new face}."""
     if len(shape.Solids) == 1:
         kind = "Solid"
     elif len(shape.Shells) == 1 and not shape.Solids:
         kind = "Shell"
     else:
         return None
-    faces = [face if i == index else f for i, f in enumerate(shape.Faces)]
+    faces = [faces_by_index.get(i, f) for i, f in enumerate(shape.Faces)]
     try:
         shell = Part.Shell(faces)
         shell.sewShape()

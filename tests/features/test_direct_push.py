@@ -168,6 +168,35 @@ class TestSurfaces(PushCase):
         self.assertLess(distance(shape, V(10, 10, 14)), 1e-6)
         self.assertIn("Bezier", obj.Conversion)
 
+    def test_blend_rounds_an_edge_with_c1_and_keeps_the_solid_closed(self):
+        """Pratt's rounding of the top-front edge: the two faces meet with one tangent
+        plane all along the edge; its ends moved only within the side planes."""
+        box = self.feature(Part.makeBox(20, 20, 10), "Box")
+        faces, edges = box.Shape.Faces, box.Shape.Edges
+        top = next(i for i, f in enumerate(faces) if abs(f.CenterOfMass.z - 10) < 1e-9)
+        edge = next(i for i, e in enumerate(edges)
+                    if abs(e.CenterOfMass.z - 10) < 1e-9 and abs(e.CenterOfMass.y) < 1e-9)
+        obj = fd.make_direct_push(box, f"Face{top + 1}", V(10, 10, 10), V(10, 10, 12))
+        obj.Blend = [f"Edge{edge + 1}"]
+        self.doc.recompute()
+        self.assertValid(obj)
+        shape = obj.Shape
+        self.assertTrue(shape.isValid() and shape.Shells[0].isClosed())
+        self.assertEqual(len(shape.Solids), 1)
+        rounded = min(shape.Edges, key=lambda e: abs(e.CenterOfMass.y - 10 / 3)
+                      + abs(e.CenterOfMass.z - 25 / 3) + abs(e.CenterOfMass.x - 10))
+        pair = [f for f in shape.Faces if any(x.isSame(rounded) for x in f.Edges)]
+        self.assertEqual(len(pair), 2)
+        for k in range(1, 10):
+            p = rounded.valueAt(rounded.FirstParameter
+                                + (rounded.LastParameter - rounded.FirstParameter) * k / 10)
+            normals = [f.normalAt(*f.Surface.parameter(p)) for f in pair]
+            self.assertLess(normals[0].cross(normals[1]).Length, 1e-9)   # sin of the angle
+            self.assertGreater(normals[0].dot(normals[1]), 0)
+        for v in rounded.Vertexes:                          # the ends stay on the side planes
+            self.assertTrue(abs(v.Point.x) < 1e-9 or abs(v.Point.x - 20) < 1e-9)
+        self.assertLess(distance(shape, V(10, 10, 12)), 1e-6)
+
     def test_cylinder_face_is_converted_refined_and_sewn_back(self):
         """The side of a cylinder converts to 2 rows of poles along the axis: knots are
         inserted so a pole can move, and the solid closes again."""
