@@ -43,8 +43,9 @@ class DirectPush(DeformFeature):
         Prop("App::PropertyVectorList", "Fixed", "Constraints",
              "Points of the element that keep their position and tangent."),
         Prop("App::PropertyVectorList", "Straight", "Constraints",
-             "Edges only: pairs of points; the curve between each pair becomes a straight "
-             "span and stays straight under the pushes."),
+             "Pairs of points; the curve between each pair (on a face: the iso-curve from "
+             "the first toward the second) becomes a straight span and stays straight "
+             "under the pushes."),
         Prop("App::PropertyVectorList", "Angles", "Constraints",
              "Edges only: pairs of vectors (corner, (angle in degrees, leg before, leg "
              "after)): a cusp at the corner with straight legs at that angle."),
@@ -133,9 +134,8 @@ class DirectPush(DeformFeature):
 
     def _face(self, obj, shape, pushes, tol):
         index, face = bspline.face_of(shape, obj.Element, "Element")
-        if len(obj.Straight) or len(obj.Angles):
-            raise DeformError("Straight spans and Angles work on edges; clear them for a "
-                              "face.", "Straight" if len(obj.Straight) else "Angles")
+        if len(obj.Angles):
+            raise DeformError("Angles work on edges; clear them for a face.", "Angles")
         corners = bspline.quad_corners(face)
         solid = len(shape.Solids) == 1 or (len(shape.Shells) == 1 and len(shape.Faces) > 1)
         if corners is not None:
@@ -150,6 +150,15 @@ class DirectPush(DeformFeature):
             u, v, d = dp.closest_uv(s, np.array(tuple(x)))
             self._on(d, tol, f"Fixed[{i}]", obj.Element)
             fixed.append((u, v))
+        spans = []
+        for i, (a, b) in enumerate(pairs(obj.Straight, "Straight")):
+            ends = []
+            for k, x in enumerate((a, b)):
+                u, v, d = dp.closest_uv(s, x)
+                self._on(d, tol, f"Straight[{2 * i + k}]", obj.Element)
+                ends.append((u, v))
+            spans.append(tuple(ends))
+            s, _ = dp.make_straight_surface(s, *ends)
         start, landed = s, []
         for i, (x, target) in enumerate(pushes):
             u, v, d = dp.closest_uv(s, x)
@@ -158,7 +167,8 @@ class DirectPush(DeformFeature):
             self._on(d, tol, f"Points[{i}]", obj.Element)
             if min(s.weights.shape) < 3:  # no interior pole in one direction (a cylinder)
                 s = dp.refine_surface(s, u, v, 1)
-            s = dp.push_surface(s, u, v, target, size, fixed)
+            groups = [dp.straight_group(s, a, b) for a, b in spans]
+            s = dp.push_surface(s, u, v, target, size, fixed, groups)
             landed.append((u, v, target))
         outputs = {"MaxPoleMove": self._moves(start, s), "PoleCount": int(s.weights.size),
                    "Conversion": note}

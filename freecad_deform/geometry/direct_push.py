@@ -6,13 +6,15 @@ request is a linear constraint on the pole displacements; among all displacement
 poles in the range that meet them, the least-norm one is taken. For one push this is the
 paper's V'_j = V_j + a w_j (m1 - m0) with a = 1 / sum w^2, so the point lands exactly.
 
-Primitives (the paper's 4.2, here in 3D, for curves; fixed points also on surfaces):
+Primitives (the paper's 4.2, here in 3D, for curves and surfaces):
 - fixed point: knots inserted at it up to the degree, the pole there and its two
   neighbours held: position, tangent and the curve on both sides keep;
 - straight span: the poles that shape the span put on one line, and from then on moved
-  only together (one translation), so the span stays straight;
+  only together (one translation), so the span stays straight; on a surface the span is
+  an iso-curve segment, its row of poles isolated by knots up to the degree;
 - angle: a cusp (knots up to the degree) with straight legs of given lengths at a given
-  angle, the corner where asked.
+  angle, the corner where asked (curves); on surfaces fixed points hold position and
+  tangent plane by linear constraints.
 """
 from typing import NamedTuple
 
@@ -247,23 +249,29 @@ def refine_curve(c, t, size):
 
 # --- surfaces ---------------------------------------------------------------------------------
 
-def push_surface(s, u, v, target, size, fixed=()):
+def push_surface(s, u, v, target, size, fixed=(), groups=()):
     """The surface with S(u, v) moved exactly to `target`, moving at most size x size
     interior poles around it (border poles never), least-norm. `fixed` (u, v) points keep
-    their position and tangent plane (S, S_u, S_v unchanged: 9 linear constraints each)."""
+    their position and tangent plane (S, S_u, S_v unchanged: 9 linear constraints each).
+    `groups` are straight spans' poles: held, or moved as one when the point is on one."""
     nu, nv = s.weights.shape
     row = surface_row(s, u, v)
     grid = np.abs(row.reshape(nu, nv))
     ii = window(grid.sum(axis=1), size, 1, nu - 2)
     jj = window(grid.sum(axis=0), size, 1, nv - 2)
-    movable = [i * nv + j for i in ii for j in jj]
+    on = [g for g in groups if set(np.nonzero(row)[0]) & set(g)
+          and abs(row[g].sum() - 1) < 1e-9]
+    held = {i for g in groups if g not in on for i in g}
+    movable = [i * nv + j for i in ii for j in jj if i * nv + j not in held]
+    movable += [i for g in on for i in g if i not in movable
+                and 0 < i // nv < nu - 1 and 0 < i % nv < nv - 1]
     rows = [row]
     rhs = [np.asarray(target, float) - row @ s.poles.reshape(-1, 3)]
     for fu, fv in fixed:
         for du, dv in ((0, 0), (1, 0), (0, 1)):
             rows.append(surface_row(s, fu, fv, du, dv))
             rhs.append(np.zeros(3))
-    D = least_norm(nu * nv, movable, rows, rhs)
+    D = least_norm(nu * nv, movable, rows, rhs, on)
     return s._replace(poles=s.poles + D.reshape(s.poles.shape))
 
 
@@ -287,6 +295,65 @@ def refine_surface(s, u, v, size):
             s = s._replace(poles=P, weights=w, **({"uknots": knots} if axis == 0
                                                   else {"vknots": knots}))
     return s
+
+
+def _insert_along(s, axis, t, times):
+    """Surface s with knot t inserted `times` more times along u (axis 0) or v (axis 1)."""
+    knots = s.uknots if axis == 0 else s.vknots
+    degree = s.udegree if axis == 0 else s.vdegree
+    need = max(0, times - multiplicity(knots, t))
+    if need == 0:
+        return s
+    P, w = (s.poles, s.weights) if axis == 0 else (s.poles.swapaxes(0, 1), s.weights.T)
+    knots, P, w = insert_knot(knots, degree, P, w, t, need)
+    if axis == 1:
+        P, w = P.swapaxes(0, 1), w.T
+    return s._replace(poles=P, weights=w, **({"uknots": knots} if axis == 0 else
+                                              {"vknots": knots}))
+
+
+def _iso(a, b):
+    """(axis the segment runs along, the other axis, the other parameter, lo, hi)."""
+    axis = 0 if abs(a[0] - b[0]) >= abs(a[1] - b[1]) else 1
+    lo, hi = sorted((a[axis], b[axis]))
+    if hi - lo <= 0:
+        raise DeformError("A Straight span has no length; pick two different points.",
+                          "Straight")
+    return axis, 1 - axis, 0.5 * (a[1 - axis] + b[1 - axis]), lo, hi
+
+
+def straight_group(s, a, b):
+    """Flat indices of the poles that shape the iso-curve segment from a to b, once knots
+    isolate it (see make_straight_surface)."""
+    axis, other, fixed, lo, hi = _iso(a, b)
+    knots_other = s.vknots if other == 1 else s.uknots
+    row = int(np.searchsorted(knots_other, fixed - 1e-12, side="left")) - 1
+    knots = s.uknots if axis == 0 else s.vknots
+    degree = s.udegree if axis == 0 else s.vdegree
+    n = len(knots) - degree - 1
+    span = straight_poles(Curve(np.zeros((n, 3)), np.ones(n), knots, degree), lo, hi)
+    nv = s.weights.shape[1]
+    return [i * nv + row for i in span] if axis == 0 else [row * nv + j for j in span]
+
+
+def make_straight_surface(s, a, b):
+    """(surface, group of flat pole indices): the iso-curve through the parameter points
+    a = (u, v) and b, along the direction in which they differ more, made a straight
+    segment between them. Knots up to the degree at the other parameter put that
+    iso-curve on one row of poles; the poles of that row that shape the segment go on the
+    line through S(a) and S(b); the shape elsewhere is kept."""
+    axis, other, fixed, lo, hi = _iso(a, b)
+    s = _insert_along(s, other, fixed, s.vdegree if other == 1 else s.udegree)
+    s = _insert_along(_insert_along(s, axis, lo, 1), axis, hi, 1)
+    group = straight_group(s, a, b)
+    P = s.poles.reshape(-1, 3).copy()
+
+    def point(t):
+        return surface_row(s, *((t, fixed) if axis == 0 else (fixed, t))) @ P
+    p0, p1 = point(lo), point(hi)
+    d = (p1 - p0) / np.linalg.norm(p1 - p0)
+    P[group] = p0 + np.outer((P[group] - p0) @ d, d)
+    return s._replace(poles=P.reshape(s.poles.shape)), group
 
 
 def bezier_patch(corners, degree=3):

@@ -150,6 +150,20 @@ class TestSurfaces(PushCase):
         np.testing.assert_array_equal(new[border], old[border])
         self.assertTrue(np.abs(new - old).max() > 0)
 
+    def test_straight_iso_span_on_a_surface(self):
+        surface = canopy_surface()
+        base = self.feature(Part.Face(surface), "Canopy")
+        a, b = surface.value(0.3, 0.55), surface.value(0.7, 0.55)
+        point = surface.value(0.5, 0.2)
+        obj = fd.make_direct_push(base, "Face1", point, point + V(0, 0, 3), straight=[(a, b)])
+        self.assertValid(obj)
+        new = obj.Shape.Faces[0].Surface
+        self.assertLess(distance(obj.Shape, point + V(0, 0, 3)), 1e-7)
+        (ua, va), (ub, vb) = new.parameter(a), new.parameter(b)
+        pts = [new.value(ua + (ub - ua) * k / 40, va + (vb - va) * k / 40) for k in range(41)]
+        d = pts[-1] - pts[0]
+        self.assertLess(max((p - pts[0]).cross(d).Length / d.Length for p in pts), 1e-9)
+
     def test_box_top_pushed_up_stays_one_closed_valid_solid(self):
         box = self.feature(Part.makeBox(20, 20, 10), "Box")
         top = next(i for i, f in enumerate(box.Shape.Faces) if abs(f.CenterOfMass.z - 10) < 1e-9)

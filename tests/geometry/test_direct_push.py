@@ -207,3 +207,27 @@ def test_condition_1_the_curve_ends_on_the_far_side_of_the_cursor_path(t, slide,
     s3 = (r[:, 0] - q[:, 0]) * (a[1] - q[:, 1]) - (r[:, 1] - q[:, 1]) * (a[0] - q[:, 0])
     s4 = (r[:, 0] - q[:, 0]) * (b[1] - q[:, 1]) - (r[:, 1] - q[:, 1]) * (b[0] - q[:, 0])
     assert not np.any((s1 * s2 < 0) & (s3 * s4 < 0))
+
+
+def test_surface_straight_iso_span_is_straight_and_stays_under_a_push():
+    s = canopy()
+    a, b = (0.3, 0.55), (0.7, 0.55)
+    st_, group = dp.make_straight_surface(s, a, b)
+    P = st_.poles.reshape(-1, 3)
+
+    def line_dev(surface):
+        Q = surface.poles.reshape(-1, 3)
+        pts = np.array([dp.surface_row(surface, u, 0.55) @ Q for u in np.linspace(0.3, 0.7, 41)])
+        d = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
+        off = pts - pts[0]
+        return np.abs(off - np.outer(off @ d, d)).max()
+    assert line_dev(st_) < 1e-9
+    pushed = dp.push_surface(st_, 0.5, 0.25, dp.surface_row(st_, 0.5, 0.25) @ P + [0, 0, 3], 5,
+                             groups=[group])
+    assert line_dev(pushed) < 1e-9
+    Q = pushed.poles.reshape(-1, 3)
+    assert np.abs(dp.surface_row(pushed, 0.5, 0.25) @ Q - dp.surface_row(st_, 0.5, 0.25) @ P
+                  - [0, 0, 3]).max() < 1e-9
+    # the surface away from the iso-line keeps its shape
+    far = dp.surface_row(s, 0.5, 0.95) @ s.poles.reshape(-1, 3)
+    assert np.abs(dp.surface_row(st_, 0.5, 0.95) @ P - far).max() < 1e-9
