@@ -47,8 +47,9 @@ class DirectPush(DeformFeature):
              "the first toward the second) becomes a straight span and stays straight "
              "under the pushes."),
         Prop("App::PropertyVectorList", "Angles", "Constraints",
-             "Edges only: pairs of vectors (corner, (angle in degrees, leg before, leg "
-             "after)): a cusp at the corner with straight legs at that angle."),
+             "Pairs of vectors (corner, (angle in degrees, leg before, leg after)): a cusp "
+             "at the corner with straight legs at that angle (on a face: a crease along "
+             "the v iso-curve through the corner, straight sides)."),
         Prop("App::PropertyStringList", "Blend", "Constraints",
              "Faces of a solid: edges (Edge1, ...) rounded the way Pratt proposes: the poles "
              "the two faces share along the edge go midway between their neighbours, so "
@@ -105,9 +106,7 @@ class DirectPush(DeformFeature):
         for a, b in spans:
             c, _ = dp.make_straight(c, a, b)
         for t, x, (degrees, before, after) in corners:
-            if not (0 < degrees < 180 and before > 0 and after > 0):
-                raise DeformError("An angle is between 0 and 180 degrees and its legs are "
-                                  "longer than 0; change Angles.", "Angles")
+            self._check_angle(degrees, before, after)
             c, _ = dp.make_angle(c, t, np.radians(degrees), (before, after), x)
         start = c
         for i, (x, target) in enumerate(pushes):
@@ -126,6 +125,12 @@ class DirectPush(DeformFeature):
             "MaxPoleMove": moves, "PoleCount": len(c.poles), "Conversion": note}
 
     @staticmethod
+    def _check_angle(degrees, before, after):
+        if not (0 < degrees < 180 and before > 0 and after > 0):
+            raise DeformError("An angle is between 0 and 180 degrees and its legs are "
+                              "longer than 0; change Angles.", "Angles")
+
+    @staticmethod
     def _moves(before, after):
         if before.poles.shape != after.poles.shape:
             return float("nan")
@@ -134,8 +139,6 @@ class DirectPush(DeformFeature):
 
     def _face(self, obj, shape, pushes, tol):
         index, face = bspline.face_of(shape, obj.Element, "Element")
-        if len(obj.Angles):
-            raise DeformError("Angles work on edges; clear them for a face.", "Angles")
         corners = bspline.quad_corners(face)
         solid = len(shape.Solids) == 1 or (len(shape.Shells) == 1 and len(shape.Faces) > 1)
         if corners is not None:
@@ -150,7 +153,7 @@ class DirectPush(DeformFeature):
             u, v, d = dp.closest_uv(s, np.array(tuple(x)))
             self._on(d, tol, f"Fixed[{i}]", obj.Element)
             fixed.append((u, v))
-        spans = []
+        original, spans = s, []
         for i, (a, b) in enumerate(pairs(obj.Straight, "Straight")):
             ends = []
             for k, x in enumerate((a, b)):
@@ -159,16 +162,22 @@ class DirectPush(DeformFeature):
                 ends.append((u, v))
             spans.append(tuple(ends))
             s, _ = dp.make_straight_surface(s, *ends)
+        held = []
+        for i, (x, (degrees, before, after)) in enumerate(pairs(obj.Angles, "Angles")):
+            u, v, d = dp.closest_uv(s, x)
+            self._on(d, tol, f"Angles[{2 * i}]", obj.Element)
+            self._check_angle(degrees, before, after)
+            s, held = dp.make_angle_surface(s, (u, v), np.radians(degrees), (before, after), x)
         start, landed = s, []
         for i, (x, target) in enumerate(pushes):
             u, v, d = dp.closest_uv(s, x)
-            if d > tol:
-                u, v, d = dp.closest_uv(start, x)
+            if d > tol:  # a point given on the Base, before the constraints reshaped it
+                u, v, d = dp.closest_uv(original, x)
             self._on(d, tol, f"Points[{i}]", obj.Element)
             if min(s.weights.shape) < 3:  # no interior pole in one direction (a cylinder)
                 s = dp.refine_surface(s, u, v, 1)
             groups = [dp.straight_group(s, a, b) for a, b in spans]
-            s = dp.push_surface(s, u, v, target, size, fixed, groups)
+            s = dp.push_surface(s, u, v, target, size, fixed, groups, held)
             landed.append((u, v, target))
         outputs = {"MaxPoleMove": self._moves(start, s), "PoleCount": int(s.weights.size),
                    "Conversion": note}

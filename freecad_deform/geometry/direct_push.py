@@ -13,8 +13,8 @@ Primitives (the paper's 4.2, here in 3D, for curves and surfaces):
   only together (one translation), so the span stays straight; on a surface the span is
   an iso-curve segment, its row of poles isolated by knots up to the degree;
 - angle: a cusp (knots up to the degree) with straight legs of given lengths at a given
-  angle, the corner where asked (curves); on surfaces fixed points hold position and
-  tangent plane by linear constraints.
+  angle, the corner where asked; on a surface a crease along an iso-curve with straight
+  sides. On surfaces fixed points hold position and tangent plane by linear constraints.
 """
 from typing import NamedTuple
 
@@ -249,11 +249,12 @@ def refine_curve(c, t, size):
 
 # --- surfaces ---------------------------------------------------------------------------------
 
-def push_surface(s, u, v, target, size, fixed=(), groups=()):
+def push_surface(s, u, v, target, size, fixed=(), groups=(), held=()):
     """The surface with S(u, v) moved exactly to `target`, moving at most size x size
     interior poles around it (border poles never), least-norm. `fixed` (u, v) points keep
     their position and tangent plane (S, S_u, S_v unchanged: 9 linear constraints each).
-    `groups` are straight spans' poles: held, or moved as one when the point is on one."""
+    `groups` are straight spans' poles: held, or moved as one when the point is on one;
+    `held` poles (an angle's) never move."""
     nu, nv = s.weights.shape
     row = surface_row(s, u, v)
     grid = np.abs(row.reshape(nu, nv))
@@ -261,7 +262,7 @@ def push_surface(s, u, v, target, size, fixed=(), groups=()):
     jj = window(grid.sum(axis=0), size, 1, nv - 2)
     on = [g for g in groups if set(np.nonzero(row)[0]) & set(g)
           and abs(row[g].sum() - 1) < 1e-9]
-    held = {i for g in groups if g not in on for i in g}
+    held = {i for g in groups if g not in on for i in g} | set(held)
     movable = [i * nv + j for i in ii for j in jj if i * nv + j not in held]
     movable += [i for g in on for i in g if i not in movable
                 and 0 < i // nv < nu - 1 and 0 < i % nv < nv - 1]
@@ -354,6 +355,39 @@ def make_straight_surface(s, a, b):
     d = (p1 - p0) / np.linalg.norm(p1 - p0)
     P[group] = p0 + np.outer((P[group] - p0) @ d, d)
     return s._replace(poles=P.reshape(s.poles.shape)), group
+
+
+def make_angle_surface(s, corner_uv, angle, legs, corner=None):
+    """(surface, held flat pole indices): a crease along the iso-curve v = corner_uv[1]
+    whose two sides are straight in v, `legs` = (before, after) long, meeting at `angle`
+    (radians), the crease through `corner` (default: where the surface is). Knots up to
+    the degree put the crease on one row of poles; the rows on either side are laid out
+    along the two leg directions (common to the whole crease, so each side is ruled)."""
+    u, v = corner_uv
+    q = s.vdegree
+    P0 = s.poles.reshape(-1, 3)
+    tangent = surface_row(s, u, v, 1, 0) @ P0
+    across = surface_row(s, u, v, 0, 1) @ P0
+    normal = np.cross(tangent, across)
+    tangent, normal = tangent / np.linalg.norm(tangent), normal / np.linalg.norm(normal)
+    forward = np.cross(normal, tangent)                  # along +v, in the tangent plane
+    half = (np.pi - angle) / 2
+    d2 = Rotation.from_rotvec(-half * tangent).apply(forward)   # both legs bend to -normal
+    d1 = Rotation.from_rotvec(half * tangent).apply(-forward)
+    s = _insert_along(s, 1, v, q)
+    j0 = int(np.searchsorted(s.vknots, v - 1e-12, side="left")) - 1
+    nu, nv = s.weights.shape
+    if j0 - q < 0 or j0 + q >= nv:
+        raise DeformError("An angle needs degree rows of poles on both sides of its crease; "
+                          "put it farther from the face's border.", "Angles")
+    P = s.poles.copy()
+    if corner is not None:
+        P[:, j0] += np.asarray(corner, float) - surface_row(s, u, v) @ s.poles.reshape(-1, 3)
+    for k in range(1, q + 1):
+        P[:, j0 - k] = P[:, j0] + d1 * legs[0] * k / q
+        P[:, j0 + k] = P[:, j0] + d2 * legs[1] * k / q
+    held = [i * nv + j for i in range(nu) for j in range(j0 - q, j0 + q + 1)]
+    return s._replace(poles=P), held
 
 
 def bezier_patch(corners, degree=3):

@@ -164,6 +164,23 @@ class TestSurfaces(PushCase):
         d = pts[-1] - pts[0]
         self.assertLess(max((p - pts[0]).cross(d).Length / d.Length for p in pts), 1e-9)
 
+    def test_angle_crease_on_a_surface(self):
+        surface = canopy_surface(10)        # rows enough for a crease and a push beside it
+        base = self.feature(Part.Face(surface), "Canopy")
+        corner = surface.value(0.5, 0.5)
+        point = surface.value(0.5, 0.1)
+        obj = fd.make_direct_push(base, "Face1", point, point + V(0, 0, 2),
+                                  angles=[(corner, 120, 8, 8)])
+        self.assertValid(obj)
+        face = obj.Shape.Faces[0]
+        self.assertLess(distance(face, corner), 1e-9)
+        self.assertLess(distance(face, point + V(0, 0, 2)), 1e-7)
+        new = face.Surface
+        u, v = new.parameter(corner)
+        below, above = new.value(u, v - 0.02), new.value(u, v + 0.02)   # within the legs
+        legs = below - corner, above - corner
+        self.assertAlmostEqual(np.degrees(legs[0].getAngle(legs[1])), 120, delta=1e-6)
+
     def test_box_top_pushed_up_stays_one_closed_valid_solid(self):
         box = self.feature(Part.makeBox(20, 20, 10), "Box")
         top = next(i for i, f in enumerate(box.Shape.Faces) if abs(f.CenterOfMass.z - 10) < 1e-9)

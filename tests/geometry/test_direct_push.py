@@ -231,3 +231,23 @@ def test_surface_straight_iso_span_is_straight_and_stays_under_a_push():
     # the surface away from the iso-line keeps its shape
     far = dp.surface_row(s, 0.5, 0.95) @ s.poles.reshape(-1, 3)
     assert np.abs(dp.surface_row(st_, 0.5, 0.95) @ P - far).max() < 1e-9
+
+
+def test_surface_angle_is_a_crease_with_straight_sides_at_the_angle():
+    s = canopy()
+    a, held = dp.make_angle_surface(s, (0.5, 0.5), np.radians(120), (8.0, 8.0))
+    Q = a.poles.reshape(-1, 3)
+    crease = dp.surface_row(a, 0.5, 0.5) @ Q
+    np.testing.assert_allclose(crease, dp.surface_row(s, 0.5, 0.5) @ s.poles.reshape(-1, 3),
+                               atol=1e-9)
+    nv = a.weights.shape[1]
+    j0 = int(np.searchsorted(a.vknots, 0.5 - 1e-12)) - 1
+    i = 3
+    legs = a.poles[i, j0 - 3] - a.poles[i, j0], a.poles[i, j0 + 3] - a.poles[i, j0]
+    cos = legs[0] @ legs[1] / np.linalg.norm(legs[0]) / np.linalg.norm(legs[1])
+    assert np.degrees(np.arccos(cos)) == pytest.approx(120, abs=1e-9)
+    for side in (np.linspace(0.35, 0.5, 15), np.linspace(0.5, 0.62, 15)):   # straight in v
+        pts = np.array([dp.surface_row(a, 0.4, t) @ Q for t in side])
+        d = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
+        assert np.abs((pts - pts[0]) - np.outer((pts - pts[0]) @ d, d)).max() < 1e-9
+    assert len(held) == a.weights.shape[0] * 7 and max(held) < a.weights.size
