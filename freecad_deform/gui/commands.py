@@ -8,7 +8,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 
 from . import icon_path, selection
-from .task_panel import panel_class
+from .task_panel import is_invalid, panel_class
 
 
 class CommandBase:
@@ -169,8 +169,8 @@ class DimensionDriveCommand(CommandBase):
 
 
 def point_on_face(face, picked):
-    """The picked point when it lies on `face` (a selection made without a click reports
-    none, or the origin), else the point of the face nearest its centre of mass."""
+    """The picked point when it lies on `face` (or an edge; a selection made without a
+    click reports none, or the origin), else the point of it nearest its centre of mass."""
     import Part
     size = max(face.BoundBox.DiagonalLength, 1e-9)
     if picked is not None and face.distToShape(Part.Vertex(picked))[0] < 1e-6 * size:
@@ -220,8 +220,45 @@ class AreaConstrainCommand(CommandBase):
         return [(i, j) for i in range(1, nu + 1) for j in range(1, nv + 1)]
 
 
+class DirectPushCommand(CommandBase):
+    NAME = "Deform_DirectPush"
+    TYPE = "DirectPush"
+    MENU_TEXT = "Direct push"
+    TOOL_TIP = ("Push any point of a curve or surface where it must go: the poles and knots "
+                "follow; a face of a solid bulges and the solid stays closed.\n"
+                "Select one edge or one face of a shape; then drag it in the 3D view while "
+                "the task panel is open (on a face, Shift at the press drags along its normal).")
+
+    def read_selection(self):
+        """(base, "EdgeN" or "FaceN", picked point or None): exactly one edge or one face
+        of one Part object, else None."""
+        try:
+            items = Gui.Selection.getSelectionEx()
+            if len(items) != 1 or not items[0].Object.isDerivedFrom("Part::Feature"):
+                return None
+            names = [n for n in items[0].SubElementNames if n]
+            if len(names) != 1 or not names[0].startswith(("Edge", "Face")):
+                return None
+            points = items[0].PickedPoints
+            return items[0].Object, names[0], (points[0] if points else None)
+        except Exception:
+            return None
+
+    def create(self, base, element, picked=None):
+        """The object without pushes. make_direct_push needs one: a zero push at the picked
+        point (or the element's centre) checks that the element can be pushed, then goes."""
+        from ..api import make_direct_push
+        point = point_on_face(base.Shape.getElement(element), picked)
+        obj = make_direct_push(base, element, point, point)
+        if is_invalid(obj):
+            raise ValueError(obj.getStatusString())
+        obj.Points, obj.Targets = [], []
+        obj.Document.recompute()
+        return obj
+
+
 COMMANDS = [StretchCommand, BendCommand, TwistCommand, DimensionDriveCommand,
-            AreaConstrainCommand]
+            AreaConstrainCommand, DirectPushCommand]
 TOOLBAR = [c.NAME for c in COMMANDS]
 
 

@@ -124,6 +124,20 @@ def test_all_checks_pass(gui_run):
     "AreaConstrain: AchievedArea / OriginalArea = 1.05", "AreaConstrain: net gone after OK",
     "AreaConstrain: one undo step", "AreaConstrain: undo removes it",
     "AreaConstrain: Cancel leaves the document unchanged",
+    "DirectPush: active with an edge selected",
+    "DirectPush: a click adds a fixed point on the curve",
+    "DirectPush: two clicks add a straight span", "DirectPush: one push recorded",
+    "DirectPush: the grabbed point is on the result at the target (1e-6)",
+    "DirectPush: the target is where the mouse let go, in the view plane",
+    "DirectPush: the drag does not select", "DirectPush: one undo step",
+    "DirectPush: undo removes it", "drag preview >= 30 fps",
+    "DirectPush: surface preview shown while dragging, the result hidden",
+    "DirectPush: removing the first push keeps the second valid",
+    "DirectPush: Shift drags the top face up along its normal",
+    "DirectPush: box result one valid solid",
+    "DirectPush: Cancel after a drag leaves the document unchanged",
+    "DirectPush: edit, drag, Cancel restores the pushes",
+    "DirectPush: a trimmed face: no object, no panel",
 ])
 def test_key_check(gui_run, name):
     found = [c for c in gui_run["checks"] if c["name"] == name]
@@ -143,10 +157,20 @@ def test_screenshots_written(gui_run, capsys):
         "stretch_window.png", "stretch_result.png", "stretch_reopened.png",
         "bend_task_panel.png", "bend_result.png", "twist_task_panel.png",
         "twist_result.png", "dimension_drive.png", "dimension_drive_task_panel.png",
-        "area_constrain.png", "area_constrain_task_panel.png"]), names
+        "area_constrain.png", "area_constrain_task_panel.png", "direct_push.png",
+        "direct_push_task_panel.png"]), names
     for path in shots:
         assert os.path.getsize(path) > 5000, path
         assert _drawn_fraction(path) > 0.02, f"{path} is (nearly) blank"
+
+
+def test_direct_push_drag_rate(gui_run, capsys):
+    """The drag preview's rate on a 20 x 20-pole surface, shown also in a quiet run (the
+    key check "drag preview >= 30 fps" asserts it)."""
+    found = [c for c in gui_run["checks"] if c["name"] == "drag preview >= 30 fps"]
+    assert found, "the DirectPush drag was not measured"
+    with capsys.disabled():
+        print(f"\nDirectPush drag, 20 x 20 poles: {found[0]['detail']}")
 
 
 def _drawn_fraction(path):
