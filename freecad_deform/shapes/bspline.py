@@ -132,7 +132,7 @@ def bspline_of(face, prop="Face"):
     natural = Part.Face(surface)
     if len(face.Wires) != 1 or abs(natural.Area - face.Area) > 1e-3 * face.Area:
         raise DeformError(f"{prop} is trimmed (holes or a non-rectangular boundary); "
-                          "AreaConstrain needs a face bounded by its surface's parameter "
+                          "the face must be bounded by its surface's parameter "
                           "range.", prop)
     return surface, note
 
