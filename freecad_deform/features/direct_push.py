@@ -7,6 +7,8 @@ and angles are set up first; every push then respects them. A face of a solid or
 becomes a B-spline patch (a planar four-sided face: its exact bicubic Bezier form) whose
 border poles never move, and the solid is sewn again.
 """
+from typing import NamedTuple
+
 import numpy as np
 import Part
 
@@ -21,6 +23,189 @@ def pairs(vectors, prop):
     if len(v) % 2:
         raise DeformError(f"{prop} holds pairs of vectors; it has an odd count.", prop)
     return list(zip(v[0::2], v[1::2]))
+
+
+INPUTS = ("Element", "Points", "Targets", "Range", "Fixed", "Straight", "Angles")
+
+
+class State(NamedTuple):
+    """The element in numpy after its constraints (`start`) and its pushes (`current`):
+    what the feature builds its result from and what the task panel drags."""
+    kind: str          # "Edge" or "Face"
+    original: object   # the Base's element as a Curve / Surface: constraints are given on it
+    start: object      # after the constraints
+    current: object    # after the constraints and every push
+    size: int          # poles a push may move (per direction)
+    fixed: list        # Fixed as parameters: t, or (u, v)
+    spans: list        # Straight as parameter pairs
+    corners: list      # the corner parameters of Angles (edges)
+    held: list         # the poles an angle holds (faces)
+    params: list       # where each push grabbed the element (as the pushes before left it)
+    points: list       # the point there
+    note: str          # how the element became a B-spline
+    tol: float         # how far a point may be from the element
+
+
+def inputs_of(obj):
+    """The properties a replay reads, and the Base's shape."""
+    inputs = {name: getattr(obj, name) for name in INPUTS}
+    inputs["Shape"] = obj.Base.Shape
+    return inputs
+
+
+def point_at(arrays, at):
+    if isinstance(arrays, dp.Curve):
+        return dp.evaluate(arrays, at)
+    return dp.surface_row(arrays, *at) @ arrays.poles.reshape(-1, 3)
+
+
+def _check_angle(degrees, before, after):
+    if not (0 < degrees < 180 and before > 0 and after > 0):
+        raise DeformError("An angle is between 0 and 180 degrees and its legs are longer "
+                          "than 0; change Angles.", "Angles")
+
+
+def _on(distance, tol, what, name):
+    if distance > tol:
+        raise DeformError(f"{what} is not on {name} ({distance:.3g} mm away); pick a point "
+                          "on it.", what.split("[")[0])
+
+
+def _edge_start(shape, inputs, tol):
+    name = inputs["Element"]
+    curve, note = bspline.curve_of(bspline.edge_of(shape, name)[1])
+    c = original = bspline.curve_arrays(curve)
+    p = c.degree
+
+    def param(x, what):
+        t, d = dp.closest_parameter(original, np.array(tuple(x)))
+        _on(d, tol, what, name)
+        return t
+    fixed = [param(x, f"Fixed[{i}]") for i, x in enumerate(inputs["Fixed"])]
+    spans = [tuple(sorted((param(a, f"Straight[{2 * i}]"), param(b, f"Straight[{2 * i + 1}]"))))
+             for i, (a, b) in enumerate(pairs(inputs["Straight"], "Straight"))]
+    corners = [(param(x, f"Angles[{2 * i}]"), x, spec)
+               for i, (x, spec) in enumerate(pairs(inputs["Angles"], "Angles"))]
+    for t in fixed:
+        c = dp.curve_with_knot(c, t, p)
+    for a, b in spans:
+        c, _ = dp.make_straight(c, a, b)
+    for t, x, (degrees, before, after) in corners:
+        _check_angle(degrees, before, after)
+        c, _ = dp.make_angle(c, t, np.radians(degrees), (before, after), x)
+    size = (inputs["Range"] if inputs["Range"] > 0 else p + 1) + 1
+    return State("Edge", original, c, c, size, fixed, spans, [t for t, _, _ in corners], [],
+                 [], [], note, tol)
+
+
+def _face_start(shape, inputs, tol):
+    name = inputs["Element"]
+    face = bspline.face_of(shape, name, "Element")[1]
+    corners = bspline.quad_corners(face)
+    if corners is not None:
+        s, note = dp.bezier_patch(corners), "planar four-sided face: exact bicubic Bezier patch (Pratt)"
+    else:
+        surface, note = bspline.bspline_of(face, "Element")
+        s = bspline.surface_arrays(surface)
+    original = s
+
+    def uv(x, what):
+        u, v, d = dp.closest_uv(original, np.array(tuple(x)))
+        _on(d, tol, what, name)
+        return u, v
+    fixed = [uv(x, f"Fixed[{i}]") for i, x in enumerate(inputs["Fixed"])]
+    spans = [(uv(a, f"Straight[{2 * i}]"), uv(b, f"Straight[{2 * i + 1}]"))
+             for i, (a, b) in enumerate(pairs(inputs["Straight"], "Straight"))]
+    for a, b in spans:
+        s, _ = dp.make_straight_surface(s, a, b)
+    held = []
+    for i, (x, (degrees, before, after)) in enumerate(pairs(inputs["Angles"], "Angles")):
+        _check_angle(degrees, before, after)
+        s, held = dp.make_angle_surface(s, uv(x, f"Angles[{2 * i}]"), np.radians(degrees),
+                                        (before, after), np.array(tuple(x)))
+    size = (inputs["Range"] if inputs["Range"] > 0 else max(s.udegree, s.vdegree) + 1) + 1
+    return State("Face", original, s, s, size, fixed, spans, [], held, [], [], note, tol)
+
+
+def where(state, current, x, what="Points", name="the element"):
+    """Where the point x grabs `current`: its parameter there, or on the Base's element
+    when the constraints reshaped it (a point given before them)."""
+    x = np.array(tuple(x))
+    if state.kind == "Edge":
+        t, d = dp.closest_parameter(current, x)
+        if d > state.tol:
+            t, d = dp.closest_parameter(state.original, x)
+        at = t
+    else:
+        u, v, d = dp.closest_uv(current, x)
+        if d > state.tol:
+            u, v, d = dp.closest_uv(state.original, x)
+        at = (u, v)
+    _on(d, state.tol, what, name)
+    return at
+
+
+class Grab:
+    """`arrays` (the element under the state's constraints) grabbed at parameter `at`: the
+    point there, a face's unit normal there, and pushed(target): the element with that
+    point moved exactly to the target."""
+
+    def __init__(self, state, arrays, at):
+        self.state, self.at, self.normal = state, at, None
+        if state.kind == "Edge":
+            arrays = dp.refine_curve(arrays, at, state.size)
+            p = arrays.degree
+            self.held = [k + j for t in state.fixed for k in [dp.pole_at(arrays, t)]
+                         for j in (-1, 0, 1)]
+            self.held += [k + j for t in state.corners for k in [dp.pole_at(arrays, t)]
+                          for j in range(-p, p + 1)]
+            self.groups = [dp.straight_poles(arrays, a, b) for a, b in state.spans]
+        else:
+            if min(arrays.weights.shape) < 3:  # no interior pole in one direction (a cylinder)
+                arrays = dp.refine_surface(arrays, *at, 1)
+            self.held = state.held
+            self.groups = [dp.straight_group(arrays, a, b) for a, b in state.spans]
+            poles = arrays.poles.reshape(-1, 3)
+            normal = np.cross(dp.surface_row(arrays, *at, 1, 0) @ poles,
+                              dp.surface_row(arrays, *at, 0, 1) @ poles)
+            if np.linalg.norm(normal) > 0:
+                self.normal = normal / np.linalg.norm(normal)
+        self.arrays = arrays
+        self.point = point_at(arrays, at)
+
+    def pushed(self, target):
+        target = np.asarray(target, float)
+        if self.state.kind == "Edge":
+            return dp.push_curve(self.arrays, self.at, target, self.state.size, self.held,
+                                 self.groups)
+        return dp.push_surface(self.arrays, *self.at, target, self.state.size,
+                               self.state.fixed, self.groups, self.held)
+
+
+def replay(inputs, params=None):
+    """The State after the constraints and every push, as the result shows it; with
+    `params`, push i grabs the element at params[i] instead of at Points[i]."""
+    shape = inputs["Shape"]
+    tol = 1e-6 * max(1.0, shape.BoundBox.DiagonalLength) + 1e-7
+    start = _face_start if str(inputs["Element"]).startswith("Face") else _edge_start
+    state = start(shape, inputs, tol)
+    current = state.start
+    for i, target in enumerate(inputs["Targets"]):
+        at = params[i] if params is not None else where(
+            state, current, inputs["Points"][i], f"Points[{i}]", inputs["Element"])
+        grab = Grab(state, current, at)
+        state.params.append(at)
+        state.points.append(grab.point)
+        current = grab.pushed(np.array(tuple(target)))
+    return state._replace(current=current)
+
+
+def _moves(before, after):
+    """The largest pole move, or nan when knots were inserted (poles not comparable)."""
+    if before.poles.shape != after.poles.shape:
+        return float("nan")
+    return float(np.linalg.norm((after.poles - before.poles).reshape(-1, 3), axis=1).max()) \
+        if after.poles.size else 0.0
 
 
 class DirectPush(DeformFeature):
@@ -70,132 +255,35 @@ class DirectPush(DeformFeature):
         if len(obj.Points) != len(obj.Targets):
             raise DeformError(f"Points has {len(obj.Points)} entries and Targets "
                               f"{len(obj.Targets)}; give one target per point.", "Targets")
+        state = replay(inputs_of(obj))
+        moves = _moves(state.start, state.current)
+        outputs = {"MaxPoleMove": moves, "PoleCount": int(len(state.current.weights.ravel())),
+                   "Conversion": state.note}
+        if state.kind == "Edge":
+            return bspline.curve_from_arrays(state.current).toShape(), outputs
+        return self._face(obj, state), outputs
+
+    def _face(self, obj, state):
+        """The pushed patch as a face, or, for a face of a solid or shell, the Base with it
+        (and the faces a Blend rounds) replaced and sewn again."""
         shape = obj.Base.Shape
-        tol = 1e-6 * max(1.0, shape.BoundBox.DiagonalLength) + 1e-7
-        pushes = [(np.array(tuple(p)), np.array(tuple(q))) for p, q in zip(obj.Points,
-                                                                         obj.Targets)]
-        if str(obj.Element).startswith("Face"):
-            return self._face(obj, shape, pushes, tol)
-        return self._edge(obj, shape, pushes, tol)
-
-    @staticmethod
-    def _on(distance, tol, what, name):
-        if distance > tol:
-            raise DeformError(f"{what} is not on {name} ({distance:.3g} mm away); pick a "
-                              "point on it.", what.split("[")[0])
-
-    def _edge(self, obj, shape, pushes, tol):
-        _, edge = bspline.edge_of(shape, obj.Element)
-        curve, note = bspline.curve_of(edge)
-        c = bspline.curve_arrays(curve)
-        p = c.degree
-        size = (obj.Range if obj.Range > 0 else p + 1) + 1
-        original = c
-
-        def param(x, what):
-            t, d = dp.closest_parameter(original, x)
-            self._on(d, tol, what, obj.Element)
-            return t
-        fixed = [param(x, f"Fixed[{i}]") for i, x in enumerate(obj.Fixed)]
-        spans = [tuple(sorted((param(a, f"Straight[{2 * i}]"), param(b, f"Straight[{2 * i + 1}]"))))
-                 for i, (a, b) in enumerate(pairs(obj.Straight, "Straight"))]
-        corners = [(param(x, f"Angles[{2 * i}]"), x, spec)
-                   for i, (x, spec) in enumerate(pairs(obj.Angles, "Angles"))]
-        for t in fixed:
-            c = dp.curve_with_knot(c, t, p)
-        for a, b in spans:
-            c, _ = dp.make_straight(c, a, b)
-        for t, x, (degrees, before, after) in corners:
-            self._check_angle(degrees, before, after)
-            c, _ = dp.make_angle(c, t, np.radians(degrees), (before, after), x)
-        start = c
-        for i, (x, target) in enumerate(pushes):
-            t, d = dp.closest_parameter(c, x)
-            if d > tol:  # a point given on the Base, before the constraints reshaped it
-                t, d = dp.closest_parameter(original, x)
-            self._on(d, tol, f"Points[{i}]", obj.Element)
-            c = dp.refine_curve(c, t, size)
-            held = [k + j for tf in fixed for k in [dp.pole_at(c, tf)] for j in (-1, 0, 1)]
-            held += [k + j for tc, _, _ in corners for k in [dp.pole_at(c, tc)]
-                     for j in range(-p, p + 1)]
-            groups = [dp.straight_poles(c, a, b) for a, b in spans]
-            c = dp.push_curve(c, t, target, size, held, groups)
-        moves = self._moves(start, c)
-        return bspline.curve_from_arrays(c).toShape(), {
-            "MaxPoleMove": moves, "PoleCount": len(c.poles), "Conversion": note}
-
-    @staticmethod
-    def _check_angle(degrees, before, after):
-        if not (0 < degrees < 180 and before > 0 and after > 0):
-            raise DeformError("An angle is between 0 and 180 degrees and its legs are "
-                              "longer than 0; change Angles.", "Angles")
-
-    @staticmethod
-    def _moves(before, after):
-        if before.poles.shape != after.poles.shape:
-            return float("nan")
-        return float(np.linalg.norm((after.poles - before.poles).reshape(-1, 3), axis=1).max()) \
-            if after.poles.size else 0.0
-
-    def _face(self, obj, shape, pushes, tol):
-        index, face = bspline.face_of(shape, obj.Element, "Element")
-        corners = bspline.quad_corners(face)
-        solid = len(shape.Solids) == 1 or (len(shape.Shells) == 1 and len(shape.Faces) > 1)
-        if corners is not None:
-            s = dp.bezier_patch(corners)
-            note = "planar four-sided face: exact bicubic Bezier patch (Pratt)"
-        else:
-            surface, note = bspline.bspline_of(face, "Element")
-            s = bspline.surface_arrays(surface)
-        size = (obj.Range if obj.Range > 0 else max(s.udegree, s.vdegree) + 1) + 1
-        fixed = []
-        for i, x in enumerate(obj.Fixed):
-            u, v, d = dp.closest_uv(s, np.array(tuple(x)))
-            self._on(d, tol, f"Fixed[{i}]", obj.Element)
-            fixed.append((u, v))
-        original, spans = s, []
-        for i, (a, b) in enumerate(pairs(obj.Straight, "Straight")):
-            ends = []
-            for k, x in enumerate((a, b)):
-                u, v, d = dp.closest_uv(s, x)
-                self._on(d, tol, f"Straight[{2 * i + k}]", obj.Element)
-                ends.append((u, v))
-            spans.append(tuple(ends))
-            s, _ = dp.make_straight_surface(s, *ends)
-        held = []
-        for i, (x, (degrees, before, after)) in enumerate(pairs(obj.Angles, "Angles")):
-            u, v, d = dp.closest_uv(s, x)
-            self._on(d, tol, f"Angles[{2 * i}]", obj.Element)
-            self._check_angle(degrees, before, after)
-            s, held = dp.make_angle_surface(s, (u, v), np.radians(degrees), (before, after), x)
-        start, landed = s, []
-        for i, (x, target) in enumerate(pushes):
-            u, v, d = dp.closest_uv(s, x)
-            if d > tol:  # a point given on the Base, before the constraints reshaped it
-                u, v, d = dp.closest_uv(original, x)
-            self._on(d, tol, f"Points[{i}]", obj.Element)
-            if min(s.weights.shape) < 3:  # no interior pole in one direction (a cylinder)
-                s = dp.refine_surface(s, u, v, 1)
-            groups = [dp.straight_group(s, a, b) for a, b in spans]
-            s = dp.push_surface(s, u, v, target, size, fixed, groups, held)
-            landed.append((u, v, target))
-        outputs = {"MaxPoleMove": self._moves(start, s), "PoleCount": int(s.weights.size),
-                   "Conversion": note}
-        if not solid:
+        if not (len(shape.Solids) == 1 or (len(shape.Shells) == 1 and len(shape.Faces) > 1)):
             if len(obj.Blend):
                 raise DeformError("Blend needs a face of a solid or shell.", "Blend")
-            return Part.Face(bspline.surface_from_arrays(s)), outputs
-        patches, inner = {index: s}, set()
+            return Part.Face(bspline.surface_from_arrays(state.current))
+        index = bspline.face_of(shape, obj.Element, "Element")[0]
+        patches, inner = {index: state.current}, set()
         for name in obj.Blend:
-            inner |= self._blend(shape, patches, name, tol).get(index, set())
-        if obj.Blend and landed:
+            inner |= self._blend(shape, patches, name, state.tol).get(index, set())
+        if obj.Blend and state.params:
+            landed = [(u, v, np.array(tuple(t))) for (u, v), t in zip(state.params, obj.Targets)]
             patches[index] = self._reland(patches[index], landed, inner)
         result = bspline.replaced_all(shape, {i: Part.Face(bspline.surface_from_arrays(p))
                                               for i, p in patches.items()})
         if result is None:
             raise DeformError(f"{obj.Element} could not be sewn back into the Base after the "
                               "push; push less far or pick another point.", "Targets")
-        return result, outputs
+        return result
 
     @staticmethod
     def _blend(shape, patches, name, tol):

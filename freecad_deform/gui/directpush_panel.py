@@ -15,20 +15,18 @@ grabs; each such push keeps its parameter on the element and its point moves wit
 the later pushes stay on the element.
 """
 import time
-from typing import NamedTuple
 
 import numpy as np
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtGui
 
-from ..features.direct_push import pairs
+from ..features.direct_push import INPUTS, Grab, inputs_of, point_at, replay
 from ..geometry import direct_push as dp
 from ..shapes import bspline
 from .dimensiondrive_panel import length_text
 from .task_panel import TaskPanelBase, is_invalid
 
-INPUTS = ("Element", "Points", "Targets", "Range", "Fixed", "Straight", "Angles")
 OUTPUTS = ("MaxPoleMove", "PoleCount", "Conversion")
 NODE_NAME = "DeformDirectPush"
 GRAB_COLOUR = (1.0, 0.45, 0.0)
@@ -37,124 +35,11 @@ CURVE_SAMPLES = 300
 SELECTION_OFF = 2          # SoFCUnifiedSelection's OFF (AUTO, ON, OFF)
 
 
-# --- the element in numpy, as the feature computes it -----------------------------------------
-class State(NamedTuple):
-    """The element after its constraints and pushes (mirrors DirectPush._edge / _face)."""
-    kind: str          # "Edge" or "Face"
-    original: object   # the Base's element as a Curve / Surface: constraints are given on it
-    current: object    # after the constraints and every push: what the result shows
-    size: int          # poles a push may move (per direction)
-    fixed: list        # Fixed as parameters: t, or (u, v)
-    spans: list        # Straight as parameter pairs (edges)
-    corners: list      # the corner parameters of Angles (edges)
-    params: list       # where each push grabbed the element (as the pushes before left it)
-    points: list       # the point there: Points[i]
-
-
-def inputs_of(obj):
-    inputs = {name: getattr(obj, name) for name in INPUTS}
-    inputs["Shape"] = obj.Base.Shape
-    return inputs
-
-
+# --- the element in numpy (the feature's replay) ----------------------------------------------
 def input_key(inputs):
     """Equal for equal inputs: when the cached State still holds."""
     vectors = tuple(tuple(tuple(v) for v in inputs[name]) for name in INPUTS[1:3] + INPUTS[4:])
     return inputs["Shape"].hashCode(), str(inputs["Element"]), inputs["Range"], vectors
-
-
-def replay(inputs, params=None):
-    """The State after the constraints and every push; with `params`, push i grabs the
-    element at params[i] instead of at Points[i]."""
-    shape = inputs["Shape"]
-    tol = 1e-6 * max(1.0, shape.BoundBox.DiagonalLength) + 1e-7
-    start = _face_start if str(inputs["Element"]).startswith("Face") else _edge_start
-    state, where = start(shape, inputs, tol)
-    current = state.current
-    for i, target in enumerate(inputs["Targets"]):
-        if params is None:
-            at = where(current, np.array(tuple(inputs["Points"][i])))
-        else:
-            at = params[i]
-        grab = Grab(state, current, at)
-        state.params.append(at)
-        state.points.append(grab.point)
-        current = grab.pushed(np.array(tuple(target)))
-    return state._replace(current=current)
-
-
-def _edge_start(shape, inputs, tol):
-    c = bspline.curve_arrays(bspline.curve_of(bspline.edge_of(shape, inputs["Element"])[1])[0])
-    original, p = c, c.degree
-
-    def param(x):
-        return dp.closest_parameter(original, np.array(tuple(x)))[0]
-    fixed = [param(x) for x in inputs["Fixed"]]
-    spans = [tuple(sorted((param(a), param(b)))) for a, b in pairs(inputs["Straight"], "Straight")]
-    corners = [(param(x), x, spec) for x, spec in pairs(inputs["Angles"], "Angles")]
-    for t in fixed:
-        c = dp.curve_with_knot(c, t, p)
-    for a, b in spans:
-        c, _ = dp.make_straight(c, a, b)
-    for t, x, (degrees, before, after) in corners:
-        c, _ = dp.make_angle(c, t, np.radians(degrees), (before, after), x)
-    size = (inputs["Range"] if inputs["Range"] > 0 else p + 1) + 1
-
-    def where(current, x):
-        t, d = dp.closest_parameter(current, x)
-        return t if d <= tol else param(x)
-    return State("Edge", original, c, size, fixed, spans, [t for t, _, _ in corners], [], []), where
-
-
-def _face_start(shape, inputs, tol):
-    face = bspline.face_of(shape, inputs["Element"], "Element")[1]
-    corners = bspline.quad_corners(face)
-    s = dp.bezier_patch(corners) if corners is not None else \
-        bspline.surface_arrays(bspline.bspline_of(face, "Element")[0])
-    size = (inputs["Range"] if inputs["Range"] > 0 else max(s.udegree, s.vdegree) + 1) + 1
-    fixed = [dp.closest_uv(s, np.array(tuple(x)))[:2] for x in inputs["Fixed"]]
-
-    def where(current, x):
-        u, v, d = dp.closest_uv(current, x)
-        return (u, v) if d <= tol else dp.closest_uv(s, x)[:2]
-    return State("Face", s, s, size, fixed, [], [], [], []), where
-
-
-def point_at(arrays, at):
-    if isinstance(arrays, dp.Curve):
-        return dp.evaluate(arrays, at)
-    return dp.surface_row(arrays, *at) @ arrays.poles.reshape(-1, 3)
-
-
-class Grab:
-    """The element (`arrays`, under the state's constraints) grabbed at parameter `at`: the
-    point there, a face's unit normal there, and the element with that point pushed exactly
-    to a target, as the feature pushes it."""
-
-    def __init__(self, state, arrays, at):
-        self.state, self.at, self.normal = state, at, None
-        if state.kind == "Edge":
-            arrays = dp.refine_curve(arrays, at, state.size)
-            p = arrays.degree
-            self.held = [k + j for t in state.fixed for k in [dp.pole_at(arrays, t)]
-                         for j in (-1, 0, 1)]
-            self.held += [k + j for t in state.corners for k in [dp.pole_at(arrays, t)]
-                          for j in range(-p, p + 1)]
-            self.groups = [dp.straight_poles(arrays, a, b) for a, b in state.spans]
-        else:
-            poles = arrays.poles.reshape(-1, 3)
-            normal = np.cross(dp.surface_row(arrays, *at, 1, 0) @ poles,
-                              dp.surface_row(arrays, *at, 0, 1) @ poles)
-            if np.linalg.norm(normal) > 0:
-                self.normal = normal / np.linalg.norm(normal)
-        self.arrays = arrays
-        self.point = point_at(arrays, at)
-
-    def pushed(self, target):
-        if self.state.kind == "Edge":
-            return dp.push_curve(self.arrays, self.at, target, self.state.size, self.held,
-                                 self.groups)
-        return dp.push_surface(self.arrays, *self.at, target, self.state.size, self.state.fixed)
 
 
 def grabbed_at(state, result, component, picked):
