@@ -128,11 +128,12 @@ def _vectors(points):
 
 def make_direct_push(base, element, point, target, **options):
     """Push `point` of `element` ("EdgeN" or "FaceN" of base) to `target`; the poles and
-    knots follow. Options: range (the paper's m), fixed=[points], straight=[(point_a,
+    knots follow (point and target None: no push yet). Options: range (the paper's m), fixed=[points], straight=[(point_a,
     point_b)], angles=[(corner, degrees, leg_before, leg_after)], blend=["EdgeN", ...] (faces
     of a solid: Pratt's C1 rounding of those edges)."""
-    values = {"Element": str(element), "Points": _vectors([point]),
-              "Targets": _vectors([target])}
+    pushes = [] if point is None and target is None else [(point, target)]
+    values = {"Element": str(element), "Points": _vectors([p for p, _ in pushes]),
+              "Targets": _vectors([t for _, t in pushes])}
     if "range" in options:
         values["Range"] = int(options.pop("range"))
     if "fixed" in options:

@@ -110,6 +110,13 @@ class TestCurves(PushCase):
         self.doc.recompute()
         self.assertValid(obj)
 
+    def test_an_object_without_pushes_is_the_element_unchanged(self):
+        obj = fd.make_direct_push(self.base, "Edge1", None, None)
+        self.assertValid(obj)
+        self.assertEqual(len(obj.Points), 0)
+        self.assertLess(obj.Shape.Edges[0].distToShape(self.base.Shape)[0], 1e-12)
+        self.assertEqual(obj.MaxPoleMove, 0.0)
+
     def test_a_circle_edge_is_converted(self):
         circle = self.feature(Part.makeCircle(10), "Circle")
         p = V(0, 10, 0)                                  # away from the seam (the ends stay)
