@@ -117,6 +117,12 @@ class TestCurves(PushCase):
         self.assertLess(obj.Shape.Edges[0].distToShape(self.base.Shape)[0], 1e-12)
         self.assertEqual(obj.MaxPoleMove, 0.0)
 
+    def test_a_push_on_a_fixed_point_contradicts_it(self):
+        fixed = self.curve.value(0.5 * self.curve.LastParameter)
+        obj = fd.make_direct_push(self.base, "Edge1", fixed, fixed + V(0, 0, 2), fixed=[fixed])
+        self.assertIn("Invalid", obj.State)
+        self.assertIn("contradict", obj.getStatusString())
+
     def test_a_circle_edge_is_converted(self):
         circle = self.feature(Part.makeCircle(10), "Circle")
         p = V(0, 10, 0)                                  # away from the seam (the ends stay)
