@@ -13,8 +13,8 @@ from PySide import QtGui
 from ..features.area_constrain import parse_poles
 from ..shapes.bspline import bspline_of, face_of
 from .dimensiondrive_panel import length_text, spin_box
-from .task_panel import (TaskPanelBase, is_invalid, on_value_changed, set_spin_value,
-                         spin_value)
+from .task_panel import (TaskPanelBase, is_invalid, on_value_changed, results_box,
+                         set_spin_value, spin_value)
 
 PICK_RADIUS = 10          # pixels: a click this near a pole picks it
 BASE_TRANSPARENCY = 70    # the old surface while the panel is open
@@ -206,16 +206,7 @@ class AreaConstrainPanel(TaskPanelBase):
         return box
 
     def build_results(self):
-        box = QtGui.QGroupBox("Result")
-        form = QtGui.QFormLayout(box)
-        self.outputs = {}
-        for prop in OUTPUTS:
-            line = QtGui.QLineEdit()
-            line.setObjectName(prop)
-            line.setReadOnly(True)
-            line.setToolTip(self.obj.getDocumentationOfProperty(prop))
-            form.addRow(QtGui.QLabel(prop), line)
-            self.outputs[prop] = line
+        box, self.outputs = results_box(self.obj, OUTPUTS)
         return box
 
     # --- showing values ------------------------------------------------------------------------

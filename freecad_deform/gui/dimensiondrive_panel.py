@@ -17,8 +17,8 @@ from PySide import QtCore, QtGui
 
 from ..features.dimension_drive import region_colours
 from ..geometry import dimension_drive as dd
-from .task_panel import (TaskPanelBase, on_value_changed, quantity_spin_box, set_spin_value,
-                         spin_value)
+from .task_panel import (TaskPanelBase, on_value_changed, quantity_spin_box, results_box,
+                         set_spin_value, spin_value)
 
 # What each picked point means, by Kind; Position takes further feature regions after these.
 ROLES = {"Distance": ("Moving plane", "Reference plane"), "Radius": ("Cylinder",),
@@ -250,16 +250,8 @@ class DimensionDrivePanel(TaskPanelBase):
         self.frame[prop] = boxes
 
     def build_results(self):
-        box = QtGui.QGroupBox("Result")
-        form = QtGui.QFormLayout(box)
-        self.outputs = {}
-        for prop in ("Current", "Achieved", "Reachable", "RegionCount"):
-            line = QtGui.QLineEdit()
-            line.setObjectName(prop)
-            line.setReadOnly(True)
-            line.setToolTip(self.obj.getDocumentationOfProperty(prop))
-            form.addRow(prop, line)
-            self.outputs[prop] = line
+        box, self.outputs = results_box(self.obj, ("Current", "Achieved", "Reachable",
+                                                   "RegionCount"))
         return box
 
     # --- showing values ------------------------------------------------------------------------

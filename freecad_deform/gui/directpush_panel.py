@@ -25,7 +25,7 @@ from ..features.direct_push import INPUTS, Grab, inputs_of, point_at, replay
 from ..geometry import direct_push as dp
 from ..shapes import bspline
 from .dimensiondrive_panel import length_text
-from .task_panel import TaskPanelBase, is_invalid
+from .task_panel import TaskPanelBase, is_invalid, results_box
 
 OUTPUTS = ("MaxPoleMove", "PoleCount", "Conversion")
 NODE_NAME = "DeformDirectPush"
@@ -327,16 +327,7 @@ class DirectPushPanel(TaskPanelBase):
         return box
 
     def build_results(self):
-        box = QtGui.QGroupBox("Result")
-        form = QtGui.QFormLayout(box)
-        self.outputs = {}
-        for prop in OUTPUTS:
-            line = QtGui.QLineEdit()
-            line.setObjectName(prop)
-            line.setReadOnly(True)
-            line.setToolTip(self.obj.getDocumentationOfProperty(prop))
-            form.addRow(QtGui.QLabel(prop), line)
-            self.outputs[prop] = line
+        box, self.outputs = results_box(self.obj, OUTPUTS)
         return box
 
     @staticmethod

@@ -63,6 +63,22 @@ def set_spin_value(box, value):
     box.setProperty("rawValue", float(value))
 
 
+def results_box(obj, names):
+    """(a "Result" group with one read-only line per output property of `obj`, its tooltip
+    the property's documentation; {name: line})."""
+    box = QtGui.QGroupBox("Result")
+    form = QtGui.QFormLayout(box)
+    lines = {}
+    for name in names:
+        line = QtGui.QLineEdit()
+        line.setObjectName(name)
+        line.setReadOnly(True)
+        line.setToolTip(obj.getDocumentationOfProperty(name))
+        form.addRow(name, line)
+        lines[name] = line
+    return box, lines
+
+
 def is_invalid(obj):
     state = obj.State
     return "Invalid" in state or "Error" in state
