@@ -14,12 +14,11 @@ one exact-area evaluation (two sparse products and the integrand) next to its fl
 single numpy pass over the same quadrature points (|S_u x S_v| weighted and summed, from
 tangents already in memory).
 """
-import argparse
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from bench_stretch import Timer, machine_line, print_table, run_as_script, seconds  # noqa: E402
+from bench_stretch import machine_line, options, print_table, run_as_script, seconds  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -85,12 +84,7 @@ def evaluation_rows(timer):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=5)
-    parser.add_argument("--budget", type=float, default=60.0)
-    parser.add_argument("--quick", action="store_true")
-    args = parser.parse_args(argv)
-    timer = Timer(1 if args.quick else args.runs, args.budget)
+    args, timer = options(argv, __doc__, budget=60.0)
     print(machine_line())
     print_table("Solve (paper, MATLAB: ~2 min for 1 variable, > 60 min for 18)",
                 ("case", "method", "variables", "runs", "seconds", "iterations",

@@ -26,14 +26,13 @@ Twist object (touch() + doc.recompute(): conversions and the output properties V
 Continuity, SplitFaces included), or the kernel alone where the row says so. Further tables
 split one profiled recompute per row into its main calls. Progress goes to stderr.
 """
-import argparse
 import os
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 # bench_stretch puts FreeCAD's modules and the repository on sys.path and imports FreeCAD first
-from bench_stretch import (Timer, holed_plate, machine_line, print_profiles,  # noqa: E402
+from bench_stretch import (holed_plate, machine_line, options, print_profiles,  # noqa: E402
                            print_table, progress, recompute, run_as_script, seconds, stl_mesh,
                            subdivided, surface_samples, testdata)
 
@@ -292,14 +291,8 @@ def rate(count, t):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--runs", type=int, default=5, help="runs per row; the median is shown")
-    parser.add_argument("--budget", type=float, default=15.0,
-                        help="seconds a row may take before it gets only 3 runs (default 15)")
-    parser.add_argument("--quick", action="store_true", help="1 run, small inputs (CI smoke run)")
-    args = parser.parse_args(argv)
-    runs = 1 if args.quick else max(1, args.runs)
-    timer = Timer(runs, args.budget)
+    args, timer = options(argv, __doc__)
+    runs = timer.runs
     grid = (8, 8) if args.quick else (31, 32)
     # (AngularDeflection, subdivision level) of the sample-part meshes: 97,280 and 1,032,192
     # triangles (1,520 and 16,128 when quick); mesh features only on the smaller one

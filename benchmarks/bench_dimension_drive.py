@@ -19,14 +19,13 @@ Prints tables, asserts nothing about time.
    (constraint vectors, the product, the flip range). The floor is a plain scipy CSR
    product of the same shape and non-zeros with random values, measured in the same run.
 """
-import argparse
 import os
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from bench_stretch import (Timer, machine_line, print_table, run_as_script, seconds,  # noqa: E402
-                           subdivided, testdata)
+from bench_stretch import (machine_line, options, print_table, run_as_script,  # noqa: E402
+                           seconds, subdivided, testdata)
 
 import FreeCAD as App  # noqa: E402
 import Mesh  # noqa: E402
@@ -129,12 +128,7 @@ def update_rows(timer, V, T, counts):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=5)
-    parser.add_argument("--budget", type=float, default=60.0)
-    parser.add_argument("--quick", action="store_true")
-    args = parser.parse_args(argv)
-    timer = Timer(1 if args.quick else args.runs, args.budget)
+    args, timer = options(argv, __doc__, budget=60.0)
     print(machine_line())
     mesh, V, T = fandisk()
     print_table("Handle generation on fandisk.obj (paper: 2.1 s, Pentium 4 3.8 GHz)",

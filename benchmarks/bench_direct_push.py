@@ -15,13 +15,12 @@ poles (what the viewer then shows); frames per second = 1 / (median time of one 
 A document recompute of the DirectPush object (all pushes replayed from the Base, face
 rebuilt) is timed too.
 """
-import argparse
 import os
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from bench_stretch import Timer, machine_line, print_table, run_as_script  # noqa: E402
+from bench_stretch import machine_line, options, print_table, run_as_script  # noqa: E402
 
 import FreeCAD as App  # noqa: E402
 import numpy as np  # noqa: E402
@@ -120,12 +119,7 @@ def recompute_rows(timer, n):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=5)
-    parser.add_argument("--budget", type=float, default=60.0)
-    parser.add_argument("--quick", action="store_true")
-    args = parser.parse_args(argv)
-    timer = Timer(1 if args.quick else args.runs, args.budget)
+    args, timer = options(argv, __doc__, budget=60.0)
     print(machine_line())
     print_table("One push on a 30x30-pole surface, and OCCT's movePoint in the same run",
                 ("case", "input", "runs", "time", "landing error"),

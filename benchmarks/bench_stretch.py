@@ -321,15 +321,21 @@ def run_as_script(main, name, path):
         sys.exit(2)
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def options(argv, doc, budget=15.0):
+    """(args, Timer) from the options every benchmark takes: --runs, --budget, --quick."""
+    parser = argparse.ArgumentParser(description=doc.split("\n")[0])
     parser.add_argument("--runs", type=int, default=5, help="runs per row; the median is shown")
-    parser.add_argument("--budget", type=float, default=15.0,
-                        help="seconds a row may take before it gets only 3 runs (default 15)")
+    parser.add_argument("--budget", type=float, default=budget,
+                        help=f"seconds a row may take before it gets only 3 runs "
+                             f"(default {budget:g})")
     parser.add_argument("--quick", action="store_true", help="1 run, small inputs (CI smoke run)")
     args = parser.parse_args(argv)
-    runs = 1 if args.quick else max(1, args.runs)
-    timer = Timer(runs, args.budget)
+    return args, Timer(1 if args.quick else max(1, args.runs), args.budget)
+
+
+def main(argv=None):
+    args, timer = options(argv, __doc__)
+    runs = timer.runs
     grid = (8, 8) if args.quick else (31, 32)
     levels = (0, 2) if args.quick else (2, 4, 5)
     n_points = 10 ** 5 if args.quick else 10 ** 6
