@@ -1034,6 +1034,27 @@ def click_3d(point):
         process(0.05)
 
 
+def show_all():
+    """The active view isometric and fitted to the document's shapes; returns the view."""
+    view = Gui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    process(0.2)
+    return view
+
+
+def check_gate(cmd, label, obj, sub, what):
+    """The command is inactive with nothing or the whole object selected, and active with
+    its element `sub` (described as `what`) selected."""
+    Gui.Selection.clearSelection()
+    check(f"{label}: inactive with nothing selected", not cmd.isActive())
+    Gui.Selection.addSelection(obj)
+    check(f"{label}: inactive with the whole object", not cmd.isActive())
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(obj.Document.Name, obj.Name, sub)
+    check(f"{label}: active with {what} selected", cmd.isActive())
+
+
 def dimension_drive():
     """A block with a hole as a mesh: pick the top and the bottom plane, drive the height
     from 30 to 40 mm, the regions in colour meanwhile; OK, Undo, Cancel."""
@@ -1200,18 +1221,9 @@ def area_constrain():
     surface = canopy_surface()
     canopy.Shape = surface.toShape()
     doc.recompute()
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    process(0.2)
+    view = show_all()
     names0, undo0 = [o.Name for o in doc.Objects], doc.UndoCount
-    Gui.Selection.clearSelection()
-    check("AreaConstrain: inactive with nothing selected", not cmd.isActive())
-    Gui.Selection.addSelection(canopy)
-    check("AreaConstrain: inactive with the whole object", not cmd.isActive())
-    Gui.Selection.clearSelection()
-    Gui.Selection.addSelection(doc.Name, canopy.Name, "Face1")
-    check("AreaConstrain: active with a face selected", cmd.isActive())
+    check_gate(cmd, "AreaConstrain", canopy, "Face1", "a face")
 
     Gui.runCommand("Deform_AreaConstrain")
     check("AreaConstrain: panel opens", wait(lambda: panel_form(kind) is not None))
@@ -1434,18 +1446,9 @@ def direct_push():
     spline.interpolate([V(x, 10 * np.sin(x / 15), 0) for x in np.linspace(0, 70, 8)])
     curve.Shape = spline.toShape()
     doc.recompute()
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    process(0.2)
+    view = show_all()
     names0, undo0 = [o.Name for o in doc.Objects], doc.UndoCount
-    Gui.Selection.clearSelection()
-    check("DirectPush: inactive with nothing selected", not cmd.isActive())
-    Gui.Selection.addSelection(curve)
-    check("DirectPush: inactive with the whole object", not cmd.isActive())
-    Gui.Selection.clearSelection()
-    Gui.Selection.addSelection(doc.Name, curve.Name, "Edge1")
-    check("DirectPush: active with an edge selected", cmd.isActive())
+    check_gate(cmd, "DirectPush", curve, "Edge1", "an edge")
     Gui.runCommand("Deform_DirectPush")
     check("DirectPush: panel opens", wait(lambda: panel_form(kind) is not None))
     panel = open_panel("DirectPushPanel")
@@ -1524,10 +1527,7 @@ def direct_push():
     surface = wavy_surface()
     sheet.Shape = surface.toShape()
     doc.recompute()
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    process(0.2)
+    view = show_all()
     Gui.Selection.addSelection(doc.Name, sheet.Name, "Face1")
     Gui.runCommand("Deform_DirectPush")
     wait(lambda: panel_form(kind) is not None)
@@ -1590,10 +1590,7 @@ def direct_push():
     box = doc.addObject("Part::Feature", "Box")
     box.Shape = Part.makeBox(20, 20, 10)
     doc.recompute()
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    process(0.2)
+    view = show_all()
     top = next(i for i, f in enumerate(box.Shape.Faces) if abs(f.CenterOfMass.z - 10) < 1e-9)
     names0, undo0 = [o.Name for o in doc.Objects], doc.UndoCount
     for button in ("Cancel", "OK"):  # the same drag twice; OK is pressed further down
