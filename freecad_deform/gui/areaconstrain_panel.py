@@ -14,7 +14,7 @@ from ..features.area_constrain import parse_poles
 from ..shapes.bspline import bspline_of, face_of
 from .dimensiondrive_panel import length_text, spin_box
 from .task_panel import (TaskPanelBase, is_invalid, on_value_changed, results_box,
-                         set_spin_value, spin_value)
+                         set_spin_value)
 
 PICK_RADIUS = 10          # pixels: a click this near a pole picks it
 BASE_TRANSPARENCY = 70    # the old surface while the panel is open
@@ -316,12 +316,7 @@ class AreaConstrainPanel(TaskPanelBase):
     def on_area(self):
         if self._loading or self.by_ratio.isChecked():
             return
-        if self.area_binding.hasExpression():
-            self.schedule_recompute()  # the expression drives the property
-            return
-        value = spin_value(self.area)
-        if abs(value - self.obj.TargetArea.Value) > 1e-12:
-            self.set_property("TargetArea", value)
+        self.quantity_edited("TargetArea", self.area, self.area_binding)
 
     def on_percent(self, value):
         if not self._loading and self.by_ratio.isChecked():

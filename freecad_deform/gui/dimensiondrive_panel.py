@@ -480,15 +480,9 @@ class DimensionDrivePanel(TaskPanelBase):
     def on_quantity(self, prop):
         if self._loading:
             return
-        box, binding = self.quantities[prop]
         if prop in ("Target", "TargetV"):
             self.target_edited = True
-        if binding.hasExpression():
-            self.schedule_recompute()  # the expression drives the property
-            return
-        value = spin_value(box)
-        if abs(value - getattr(self.obj, prop).Value) > 1e-12:
-            self.set_property(prop, value)
+        self.quantity_edited(prop, *self.quantities[prop])
 
     def on_frame(self, prop):
         if not self._loading:

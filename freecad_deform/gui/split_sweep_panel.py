@@ -242,13 +242,7 @@ class SplitSweepPanel(TaskPanelBase):
     def on_quantity_edited(self, prop):
         if self._loading:
             return
-        box, binding = self.quantities[prop]
-        if binding.hasExpression():
-            self.schedule_recompute()  # the expression drives the property
-            return
-        value = spin_value(box)
-        if abs(value - getattr(self.obj, prop).Value) > 1e-12:
-            self.set_property(prop, value)
+        self.quantity_edited(prop, *self.quantities[prop])
 
     def on_samples_edited(self, value):
         if not self._loading and int(value) != self.obj.Samples:

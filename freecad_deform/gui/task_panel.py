@@ -161,6 +161,16 @@ class TaskPanelBase:
             return
         self.schedule_recompute()
 
+    def quantity_edited(self, prop, box, binding):
+        """A QuantitySpinBox for `prop` was edited: an expression on it drives the property
+        (recompute only); else a changed value is set."""
+        if binding.hasExpression():
+            self.schedule_recompute()
+            return
+        value = spin_value(box)
+        if abs(value - getattr(self.obj, prop).Value) > 1e-12:
+            self.set_property(prop, value)
+
     def schedule_recompute(self):
         if not self._loading and not self.closed:
             self._timer.start()
