@@ -10,7 +10,6 @@ no triangle turns over is the root of one quadratic per triangle.
 from typing import Callable, NamedTuple
 
 import numpy as np
-from scipy.sparse import csr_matrix
 from scipy.spatial import ConvexHull
 
 from .dimension_handle import build_handle, triangle_fit
