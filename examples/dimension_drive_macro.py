@@ -1,6 +1,5 @@
 # Drive dimensions of a mesh: paste into FreeCAD's Python console (or run: freecadcmd dimension_drive_macro.py).
 import FreeCAD as App
-import Mesh
 import MeshPart
 import Part
 import freecad_deform as fd

@@ -13,7 +13,6 @@ import unittest
 from . import fc
 
 import FreeCAD as App  # noqa: E402
-import Mesh  # noqa: E402
 import MeshPart  # noqa: E402
 import numpy as np  # noqa: E402
 import Part  # noqa: E402

@@ -240,7 +240,6 @@ def test_surface_angle_is_a_crease_with_straight_sides_at_the_angle():
     crease = dp.surface_row(a, 0.5, 0.5) @ Q
     np.testing.assert_allclose(crease, dp.surface_row(s, 0.5, 0.5) @ s.poles.reshape(-1, 3),
                                atol=1e-9)
-    nv = a.weights.shape[1]
     j0 = int(np.searchsorted(a.vknots, 0.5 - 1e-12)) - 1
     i = 3
     legs = a.poles[i, j0 - 3] - a.poles[i, j0], a.poles[i, j0 + 3] - a.poles[i, j0]
