@@ -104,6 +104,8 @@ def _face_start(shape, inputs, tol):
     corners = bspline.quad_corners(face)
     if corners is not None:
         s, note = dp.bezier_patch(corners), "planar four-sided face: exact bicubic Bezier patch (Pratt)"
+    elif bspline.trimmed(face):
+        s, note = bspline.coons_of(face, "Element")
     else:
         surface, note = bspline.bspline_of(face, "Element")
         s = bspline.surface_arrays(surface)

@@ -390,6 +390,23 @@ def make_angle_surface(s, corner_uv, angle, legs, corner=None):
     return s._replace(poles=P), held
 
 
+def coons_patch(c0, c1, d0, d1):
+    """The discrete Coons patch of four boundary curves: c0 (v = 0) and c1 (v = 1) run
+    along u, d0 (u = 0) and d1 (u = 1) along v, meeting at the corners; each opposite pair
+    with the same degree, knots and weights. Its border rows are exactly the curves' poles
+    (the boundary is kept); the interior poles are their bilinear blend, so a planar
+    boundary gives a planar patch (Pratt: a face with other than four sides)."""
+    n, m = len(c0.poles), len(d0.poles)
+    s = np.linspace(0, 1, n)[:, None, None]
+    t = np.linspace(0, 1, m)[None, :, None]
+    P = ((1 - t) * c0.poles[:, None] + t * c1.poles[:, None]
+         + (1 - s) * d0.poles[None] + s * d1.poles[None]
+         - ((1 - s) * (1 - t) * c0.poles[0] + s * (1 - t) * c0.poles[-1]
+            + (1 - s) * t * c1.poles[0] + s * t * c1.poles[-1]))
+    return Surface(P, np.outer(c0.weights, d0.weights), c0.knots, d0.knots, c0.degree,
+                   d0.degree)
+
+
 def bezier_patch(corners, degree=3):
     """A degree x degree Bezier surface with the bilinear grid of 4 corners as poles: the
     exact B-spline form of a planar four-sided face (Pratt): corners (00, 10, 11, 01)."""

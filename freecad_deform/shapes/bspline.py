@@ -6,6 +6,7 @@ import numpy as np
 import Part
 
 from ..geometry.bspline_area import Surface
+from ..geometry import direct_push as dp
 from ..geometry.direct_push import Curve
 from ..geometry.errors import DeformError
 
@@ -107,12 +108,8 @@ def quad_corners(face):
     return corners
 
 
-def bspline_of(face, prop="Face"):
-    """(BSplineSurface covering exactly the face, note on the conversion).
-
-    A non-B-spline face is converted (NurbsConvert: exact for planes, cylinders, cones,
-    spheres, tori, revolved and extruded surfaces); the surface is cut to the face's
-    parameter range; the face must not be trimmed by anything else."""
+def _surface_of(face):
+    """(BSplineSurface over the face's parameter range, note on the conversion)."""
     kind = face.Surface.TypeId.split("::Geom")[-1]
     if kind == "BSplineSurface":
         surface, note = face.Surface.copy(), "B-spline"
@@ -129,12 +126,27 @@ def bspline_of(face, prop="Face"):
                           (surface.isVPeriodic, surface.setVNotPeriodic)):
         if periodic():
             fix()
-    natural = Part.Face(surface)
-    if len(face.Wires) != 1 or abs(natural.Area - face.Area) > 1e-3 * face.Area:
+    return surface, note
+
+
+def trimmed(face):
+    """Whether the face is less than its surface over its parameter range (holes, or a
+    boundary that is not the range's)."""
+    return len(face.Wires) != 1 or \
+        abs(Part.Face(_surface_of(face)[0]).Area - face.Area) > 1e-3 * face.Area
+
+
+def bspline_of(face, prop="Face"):
+    """(BSplineSurface covering exactly the face, note on the conversion).
+
+    A non-B-spline face is converted (NurbsConvert: exact for planes, cylinders, cones,
+    spheres, tori, revolved and extruded surfaces); the surface is cut to the face's
+    parameter range; the face must not be trimmed by anything else."""
+    if trimmed(face):
         raise DeformError(f"{prop} is trimmed (holes or a non-rectangular boundary); "
                           "the face must be bounded by its surface's parameter "
                           "range.", prop)
-    return surface, note
+    return _surface_of(face)
 
 
 def surface_arrays(surface):
@@ -182,3 +194,76 @@ def replaced_all(shape, faces_by_index):
     if kind == "Solid" and result.Volume < 0:
         result.reverse()
     return result if result.isValid() and len(result.Faces) == len(faces) else None
+
+
+def _oriented_pieces(face):
+    """The outer wire as 4 B-spline curves in order round it (fewer edges: the longest
+    piece cut in two at its middle until there are 4); None with more than 4 edges."""
+    pieces = []
+    for edge in face.OuterWire.OrderedEdges:
+        curve, _ = curve_of(edge)
+        if edge.Orientation == "Reversed":
+            curve.reverse()
+        pieces.append(curve)
+    if len(pieces) > 4:
+        return None
+    while len(pieces) < 4:
+        k = max(range(len(pieces)), key=lambda i: pieces[i].length())
+        a, b = pieces[k].FirstParameter, pieces[k].LastParameter
+        halves = [pieces[k].copy(), pieces[k].copy()]
+        halves[0].segment(a, (a + b) / 2)
+        halves[1].segment((a + b) / 2, b)
+        pieces[k:k + 1] = halves
+    return pieces
+
+
+def _on_unit_interval(curve, degree):
+    """Curve arrays of a Part curve raised to `degree`, its knots scaled to [0, 1]."""
+    curve = curve.copy()
+    if curve.Degree < degree:
+        curve.increaseDegree(degree)
+    c = curve_arrays(curve)
+    return c._replace(knots=(c.knots - c.knots[0]) / (c.knots[-1] - c.knots[0]))
+
+
+def _reversed(c):
+    return c._replace(poles=c.poles[::-1], weights=c.weights[::-1], knots=1 - c.knots[::-1])
+
+
+def _pair(a, b, reverse_a, reverse_b):
+    """Two opposite sides, reversed as asked, with the same degree and knots (each
+    other's inserted)."""
+    degree = max(a.Degree, b.Degree)
+    x, y = _on_unit_interval(a, degree), _on_unit_interval(b, degree)
+    x, y = (_reversed(x) if reverse_a else x), (_reversed(y) if reverse_b else y)
+    for k in np.unique(np.concatenate([x.knots, y.knots])):
+        times = max(dp.multiplicity(x.knots, k), dp.multiplicity(y.knots, k))
+        x, y = dp.curve_with_knot(x, k, times), dp.curve_with_knot(y, k, times)
+    return x, y
+
+
+def coons_of(face, prop="Element"):
+    """(Surface, note): a planar face bounded by one wire of 1 to 4 edges as the Coons
+    patch of its boundary cut into four sides (Pratt: split the boundary, parametrise the
+    face as a four-sided patch). Exact: the border is the boundary, the patch is plane."""
+    pieces = _oriented_pieces(face) if face.Surface.TypeId == "Part::GeomPlane" and \
+        len(face.Wires) == 1 else None
+    if pieces is None:
+        raise DeformError(f"{prop} is trimmed and is not a planar face bounded by 1 to 4 "
+                          "edges; it has no exact patch over its boundary here.", prop)
+    # round the wire: V0 -e0-> V1 -e1-> V2 -e2-> V3 -e3-> V0; the patch's corners
+    # (0,0) V0, (1,0) V1, (1,1) V2, (0,1) V3
+    c0, c1 = _pair(pieces[0], pieces[2], False, True)
+    d0, d1 = _pair(pieces[3], pieces[1], True, False)
+    if not (np.allclose(c0.weights, c1.weights) and np.allclose(d0.weights, d1.weights)):
+        raise DeformError(f"{prop}: opposite sides of its boundary have different weights; "
+                          "no exact patch.", prop)
+    patch = dp.coons_patch(c0, c1, d0, d1)
+    P = patch.poles.reshape(-1, 3)
+    normal = np.cross(dp.surface_row(patch, 0.5, 0.5, 1, 0) @ P,
+                      dp.surface_row(patch, 0.5, 0.5, 0, 1) @ P)
+    centre = dp.surface_row(patch, 0.5, 0.5) @ P
+    if normal @ np.array(tuple(face.normalAt(*face.Surface.parameter(App.Vector(*centre))))) < 0:
+        patch = dp.coons_patch(d0, d1, c0, c1)
+    return patch, (f"planar face with {len(face.Edges)} edge(s): exact Coons patch of its "
+                   "boundary (Pratt)")

@@ -253,6 +253,37 @@ class TestSurfaces(PushCase):
         self.assertGreater(obj.Shape.Volume, cyl.Shape.Volume)
         self.assertLess(distance(obj.Shape, V(0, 8, 10)), 1e-6)
 
+    def test_round_and_triangular_planar_faces_become_coons_patches(self):
+        """Pratt: a face with other than four sides is parametrised as a four-sided patch,
+        its boundary split: the top disk of a cylinder (1 edge) and of a triangular prism
+        (3 edges); one valid closed solid each, the other faces untouched."""
+        tri = Part.Face(Part.makePolygon([V(0, 0, 0), V(30, 0, 0), V(10, 20, 0), V(0, 0, 0)]))
+        for shape, point, target in ((Part.makeCylinder(5, 10), V(1.5, -1, 10), V(1.5, -1, 12)),
+                                     (tri.extrude(V(0, 0, 10)), V(13, 6, 10), V(13, 6, 13))):
+            base = self.feature(shape, "Solid")
+            top = next(i for i, f in enumerate(shape.Faces) if abs(f.CenterOfMass.z - 10) < 1e-9)
+            obj = fd.make_direct_push(base, f"Face{top + 1}", point, target)
+            self.assertValid(obj)
+            self.assertIn("Coons", obj.Conversion)
+            result = obj.Shape
+            self.assertTrue(result.isValid() and result.Shells[0].isClosed())
+            self.assertEqual(len(result.Solids), 1)
+            self.assertGreater(result.Volume, shape.Volume)
+            self.assertLess(distance(result, target), 1e-6)
+            kept = sorted((f.Surface.TypeId, round(f.Area, 9))
+                          for i, f in enumerate(shape.Faces) if i != top)
+            others = sorted((f.Surface.TypeId, round(f.Area, 9)) for f in result.Faces
+                            if f.distToShape(Part.Vertex(target))[0] > 1e-6)
+            self.assertEqual(others, kept)
+
+    def test_a_face_with_a_hole_is_refused(self):
+        holed = self.feature(Part.makeBox(20, 20, 5).cut(Part.makeCylinder(3, 5, V(10, 10, 0))),
+                             "Holed")
+        top = next(i for i, f in enumerate(holed.Shape.Faces) if abs(f.CenterOfMass.z - 5) < 1e-9)
+        obj = fd.make_direct_push(holed, f"Face{top + 1}", V(3, 3, 5), V(3, 3, 6))
+        self.assertIn("Invalid", obj.State)
+        self.assertIn("no exact patch", obj.getStatusString())
+
     def test_undo_and_reopen(self):
         box = self.feature(Part.makeBox(20, 20, 10), "Box")
         before = len(self.doc.Objects)

@@ -250,3 +250,30 @@ def test_surface_angle_is_a_crease_with_straight_sides_at_the_angle():
         d = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
         assert np.abs((pts - pts[0]) - np.outer((pts - pts[0]) @ d, d)).max() < 1e-9
     assert len(held) == a.weights.shape[0] * 7 and max(held) < a.weights.size
+
+
+def test_coons_patch_of_four_quarter_circles_is_the_disk():
+    """A disk bounded by four rational quarter arcs: the border rows are the arcs and the
+    area is pi r^2 (the test's own Gauss-Legendre integration of |S_u x S_v|)."""
+    r, w = 5.0, np.sqrt(0.5)
+
+    def arc(a0, a1):
+        mid = (a0 + a1) / 2
+        k = r / np.cos((a1 - a0) / 2)
+        return dp.Curve(np.array([[r * np.cos(a0), r * np.sin(a0), 0],
+                                  [k * np.cos(mid), k * np.sin(mid), 0],
+                                  [r * np.cos(a1), r * np.sin(a1), 0]]),
+                        np.array([1, w, 1]), np.array([0, 0, 0, 1, 1, 1.0]), 2)
+    d = np.radians
+    s = dp.coons_patch(arc(d(-45), d(45)), arc(d(225), d(135)), arc(d(-45), d(-135)),
+                       arc(d(45), d(135)))
+    x, gw = np.polynomial.legendre.leggauss(30)
+    u = (x + 1) / 2
+    P = s.poles.reshape(-1, 3)
+    area = 0.0
+    for a, wa in zip(u, gw / 2):
+        for b, wb in zip(u, gw / 2):
+            area += wa * wb * np.linalg.norm(np.cross(dp.surface_row(s, a, b, 1, 0) @ P,
+                                                      dp.surface_row(s, a, b, 0, 1) @ P))
+    assert area == pytest.approx(np.pi * r * r, rel=1e-12)
+    assert np.all(s.poles[..., 2] == 0)
