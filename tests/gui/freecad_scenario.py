@@ -143,6 +143,7 @@ def preview_done(obj, distance):
 
 def screenshot(name):
     view = Gui.ActiveDocument.ActiveView
+    process(0.2)  # FreeCAD 1.0 shows a recompute's result only after the events: fit after
     view.viewIsometric()
     view.fitAll()
     process(0.3)
