@@ -78,6 +78,17 @@ def _camel(name):
     return "".join(part[:1].upper() + part[1:] for part in name.split("_"))
 
 
+def _options(proxy_class, caller, options):
+    """Keyword options in snake_case as {Property: value}; an unknown one is a TypeError."""
+    known = {p.name for p in proxy_class.PROPERTIES}
+    values = {}
+    for name, value in options.items():
+        if _camel(name) not in known:
+            raise TypeError(f"{caller}() got an unknown option {name!r}")
+        values[_camel(name)] = value
+    return values
+
+
 def make_dimension_drive(mesh_obj, kind, regions, target, **options):
     """Drive a dimension of `mesh_obj` (a mesh, or a solid tessellated with `tolerance`) to
     `target`. kind: "Distance" (regions: a point on the moving plane, one on the reference
@@ -95,10 +106,7 @@ def make_dimension_drive(mesh_obj, kind, regions, target, **options):
         values.update(Target=u, TargetV=v)
     else:
         values["Target"] = target
-    for name, value in options.items():
-        prop = _camel(name)
-        if prop not in {p.name for p in DimensionDrive.PROPERTIES}:
-            raise TypeError(f"make_dimension_drive() got an unknown option {name!r}")
+    for prop, value in _options(DimensionDrive, "make_dimension_drive", options).items():
         values[prop] = App.Vector(*value) if prop in ("Origin", "AxisPoint") else value
     return _make(DimensionDrive, mesh_obj, values)
 
@@ -114,11 +122,7 @@ def make_area_constrain(base, face, target_area, poles=None, dof="Normal", **opt
         values["TargetRatio"] = float(target_area.strip()[:-1]) / 100.0
     else:
         values["TargetArea"] = target_area
-    for name, value in options.items():
-        prop = _camel(name)
-        if prop not in {p.name for p in AreaConstrain.PROPERTIES}:
-            raise TypeError(f"make_area_constrain() got an unknown option {name!r}")
-        values[prop] = value
+    values.update(_options(AreaConstrain, "make_area_constrain", options))
     return _make(AreaConstrain, base, values)
 
 
