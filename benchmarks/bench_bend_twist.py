@@ -33,8 +33,8 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 # bench_stretch puts FreeCAD's modules and the repository on sys.path and imports FreeCAD first
 from bench_stretch import (holed_plate, machine_line, options, print_profiles,  # noqa: E402
-                           print_table, progress, recompute, run_as_script, seconds, stl_mesh,
-                           subdivided, surface_samples, testdata)
+                           print_table, progress, recompute, run_as_script, runs_line,
+                           seconds, stl_mesh, subdivided, surface_samples, testdata)
 
 import FreeCAD as App  # noqa: E402
 import MeshPart  # noqa: E402
@@ -301,9 +301,7 @@ def main(argv=None):
 
     start = time.perf_counter()
     print(machine_line())
-    print(f"runs: median of {runs}" + ("" if runs == 1 else
-          f" (3 for a row whose {runs} runs would take over {args.budget:g} s)")
-          + (", quick sizes" if args.quick else ""))
+    print(runs_line(args, runs))
 
     doc = App.newDocument("BenchBendTwist")
     doc.UndoMode = 0

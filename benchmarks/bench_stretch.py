@@ -333,6 +333,13 @@ def options(argv, doc, budget=15.0):
     return args, Timer(1 if args.quick else max(1, args.runs), args.budget)
 
 
+def runs_line(args, runs):
+    """What the timing columns are: the median of how many runs, at which sizes."""
+    return (f"runs: median of {runs}" + ("" if runs == 1 else
+            f" (3 for a row whose {runs} runs would take over {args.budget:g} s)")
+            + (", quick sizes" if args.quick else ""))
+
+
 def main(argv=None):
     args, timer = options(argv, __doc__)
     runs = timer.runs
@@ -342,9 +349,7 @@ def main(argv=None):
 
     start = time.perf_counter()
     print(machine_line())
-    print(f"runs: median of {runs}" + ("" if runs == 1 else
-          f" (3 for a row whose {runs} runs would take over {args.budget:g} s)")
-          + (", quick sizes" if args.quick else ""))
+    print(runs_line(args, runs))
 
     doc = App.newDocument("BenchStretch")
     doc.UndoMode = 0
