@@ -145,8 +145,9 @@ def screenshot(name):
     view = Gui.ActiveDocument.ActiveView
     process(0.2)  # FreeCAD 1.0 shows a recompute's result only after the events: fit after
     view.viewIsometric()
-    view.fitAll()
-    process(0.3)
+    for _ in range(2):  # and its first fit may still see the old bounding box
+        view.fitAll()
+        process(0.3)
     path = os.path.join(OUT, name)
     view.saveImage(path, 1000, 750, "White")
     results["screenshots"].append(path)
