@@ -209,7 +209,9 @@ def mesh_result(base_mesh, vertices, triangles):
 
 
 def volume_change(result, shape):
-    return {"VolumeChange": result.Volume - shape.Volume}
+    """Material gained, from the solids alone (loose faces have no volume; a reversed
+    Base solid counts as the material it bounds)."""
+    return {"VolumeChange": brep.solids_volume(result) - brep.solids_volume(shape)}
 
 
 def constant(vector):

@@ -11,12 +11,46 @@ TOL = 1e-7
 
 
 def solids_of(shape, prop="Base"):
-    """The solids of a shape; a shape without any is bad input for `prop`."""
-    solids = list(shape.Solids)
+    """Oriented copies of the solids of a shape; a shape without any is bad input for `prop`.
+
+    Copies, because OCCT's booleans raise the tolerances of the shapes they touch and the
+    Base is only read.
+    """
+    solids = [oriented(s) for s in shape.Solids]
     if not solids:
         raise DeformError(f"{prop} has no solid to deform; give {prop} a solid, a compound of "
                           f"solids, a mesh or a point cloud.", prop)
     return solids
+
+
+def oriented(solid):
+    """A copy of `solid` whose outer shell bounds material outward and whose inner (void)
+    shells face the cavities: STEP files bring reversed solids and voids oriented as
+    material, which booleans would hand back as separate solids."""
+    shells = solid.Shells
+    outer = max(range(len(shells)), key=lambda k: abs(shells[k].Volume))
+    if all((sh.Volume > 0) == (k == outer) for k, sh in enumerate(shells)):
+        return solid.copy()
+    return solid_of_shells([sh.copy() for sh in shells])
+
+
+def solid_of_shells(shells):
+    """One solid from closed shells: the largest bounds it, the others are its voids, each
+    turned the way that makes it so."""
+    shells = sorted(shells, key=lambda sh: -abs(sh.Volume))
+    turned = [sh if (sh.Volume > 0) == (k == 0) else sh.reversed()
+              for k, sh in enumerate(shells)]
+    return Part.makeSolid(Part.makeCompound(turned)) if len(turned) > 1 else Part.Solid(turned[0])
+
+
+def solids_volume(shape):
+    """The material volume of a shape's solids, whatever their shells' orientation: the
+    outer shell's volume less its voids' (loose faces and wires have none)."""
+    total = 0.0
+    for solid in shape.Solids:
+        volumes = sorted((abs(sh.Volume) for sh in solid.Shells), reverse=True)
+        total += volumes[0] - sum(volumes[1:]) if volumes else 0.0
+    return total
 
 
 def loose_parts(shape):
@@ -229,12 +263,10 @@ def join_faces(faces, joints, prop):
     the cut faces themselves, where OCCT's fuse of B-spline lofts is slow or drops pieces."""
     sewn = Part.makeCompound(faces)
     sewn.sewShape()
-    if len(sewn.Shells) != 1 or not sewn.Shells[0].isClosed():
+    shells = sewn.Shells
+    if not shells or not all(sh.isClosed() for sh in shells) or sum(len(sh.Faces) for sh in shells) != len(sewn.Faces):
         raise DeformError(f"The swept faces do not close a solid; change {prop}.", prop)
-    solid = Part.Solid(sewn.Shells[0])
-    if solid.Volume < 0:
-        solid.reverse()
-    return _merged(solid, joints, prop)
+    return _merged(solid_of_shells(shells), joints, prop)
 
 
 def _merged(fused, joints, prop):
@@ -275,7 +307,7 @@ def _valid_at_joints(shape, on_surface, many_wires=8):
             ok = all(w.isValid() for w in face.Wires if meets(w))
         if not ok:
             return False
-    return all(len(s.Shells) == 1 and s.Shells[0].isClosed() for s in shape.Solids)
+    return all(sh.isClosed() for s in shape.Solids for sh in s.Shells)
 
 
 def transformed(shapes, matrix):
