@@ -12,6 +12,7 @@ from PySide import QtGui
 
 from ..features.area_constrain import parse_poles
 from ..shapes.bspline import bspline_of, face_of
+from .compat import event_position
 from .dimensiondrive_panel import length_text, spin_box
 from .task_panel import (TaskPanelBase, is_invalid, on_value_changed, results_box,
                          set_spin_value)
@@ -373,7 +374,7 @@ class AreaConstrainPanel(TaskPanelBase):
         event = event_callback.getEvent()
         if (event.getButton() == coin.SoMouseButtonEvent.BUTTON1
                 and event.getState() == coin.SoMouseButtonEvent.DOWN):
-            x, y = event.getPosition().getValue()
+            x, y = event_position(event)
             if self.click(x, y):
                 event_callback.setHandled()
 

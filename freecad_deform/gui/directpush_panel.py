@@ -24,6 +24,7 @@ from PySide import QtGui
 from ..features.direct_push import INPUTS, Grab, inputs_of, point_at, replay
 from ..geometry import direct_push as dp
 from ..shapes import bspline
+from .compat import event_position, sb_values
 from .dimensiondrive_panel import length_text
 from .task_panel import TaskPanelBase, is_invalid, results_box
 
@@ -90,7 +91,7 @@ def mouse_ray(view, x, y):
     (Coin's pixels, from the bottom left)."""
     point = np.array(tuple(view.getPoint(int(x), int(y))), float)
     if view.getCameraType() == "Perspective":
-        direction = point - np.array(view.getCameraNode().position.getValue().getValue())
+        direction = point - np.array(sb_values(view.getCameraNode().position.getValue()))
     else:
         direction = np.array(tuple(view.getViewDirection()), float)
     return point, direction / np.linalg.norm(direction)
@@ -532,7 +533,7 @@ class DirectPushPanel(TaskPanelBase):
         event = event_callback.getEvent()
         if self.closed or event.getButton() != coin.SoMouseButtonEvent.BUTTON1:
             return
-        x, y = event.getPosition().getValue()
+        x, y = event_position(event)
         if event.getState() == coin.SoMouseButtonEvent.DOWN:
             handled = self.press(x, y, event.wasShiftDown())
             self.hold_selection(handled)
@@ -560,7 +561,7 @@ class DirectPushPanel(TaskPanelBase):
 
     def on_motion(self, event_callback):
         if self.drag is not None and not self.closed:
-            self.move(*event_callback.getEvent().getPosition().getValue())
+            self.move(*event_position(event_callback.getEvent()))
             event_callback.setHandled()
 
     def press(self, x, y, along_normal=False):
