@@ -44,6 +44,10 @@ class State(NamedTuple):
     points: list       # the point there
     note: str          # how the element became a B-spline
     tol: float         # how far a point may be from the element
+    surface: object = None    # the Part surface `original` came from (a fast rebuild)
+    trim: object = None       # a trimmed face: the face whose pcurves bound the result
+    boundary: object = None   # a trimmed face of a solid or shell: its pcurves' (u, v)
+                              # points; the poles that move them stay
 
 
 def inputs_of(obj):
@@ -98,16 +102,32 @@ def _edge_start(shape, inputs, tol):
                  [], [], note, tol)
 
 
+def closed(shape):
+    """Whether a face of `shape` must stay joined to its neighbours (one solid or shell)."""
+    return len(shape.Solids) == 1 or (len(shape.Shells) == 1 and len(shape.Faces) > 1)
+
+
+def _planar_few_edges(face):
+    return face.Surface.TypeId == "Part::GeomPlane" and len(face.Wires) == 1 and \
+        len(face.Edges) <= 4
+
+
 def _face_start(shape, inputs, tol):
     name = inputs["Element"]
     face = bspline.face_of(shape, name, "Element")[1]
     corners = bspline.quad_corners(face)
+    surface = trim = boundary = None
     if corners is not None:
         s, note = dp.bezier_patch(corners), "planar four-sided face: exact bicubic Bezier patch (Pratt)"
-    elif bspline.trimmed(face):
+    elif not bspline.trimmed(face):
+        surface, note = bspline.bspline_of(face, "Element")
+    elif _planar_few_edges(face):
         s, note = bspline.coons_of(face, "Element")
     else:
-        surface, note = bspline.bspline_of(face, "Element")
+        surface, trim, note = bspline.trimmed_surface(face, "Element")
+        if closed(shape):
+            boundary = bspline.boundary_uv(trim, surface, "Element")
+    if surface is not None:
         s = bspline.surface_arrays(surface)
     original = s
 
@@ -126,7 +146,8 @@ def _face_start(shape, inputs, tol):
         s, held = dp.make_angle_surface(s, uv(x, f"Angles[{2 * i}]"), np.radians(degrees),
                                         (before, after), np.array(tuple(x)))
     size = (inputs["Range"] if inputs["Range"] > 0 else max(s.udegree, s.vdegree) + 1) + 1
-    return State("Face", original, s, s, size, fixed, spans, [], held, [], [], note, tol)
+    return State("Face", original, s, s, size, fixed, spans, [], held, [], [], note, tol,
+                 surface, trim, boundary)
 
 
 def where(state, current, x, what="Points", name="the element"):
@@ -166,6 +187,8 @@ class Grab:
             if min(arrays.weights.shape) < 3:  # no interior pole in one direction (a cylinder)
                 arrays = dp.refine_surface(arrays, *at, 1)
             self.held = state.held
+            if state.boundary is not None:
+                arrays, self.held = self._inside(state, arrays, at)
             self.groups = [dp.straight_group(arrays, a, b) for a, b in state.spans]
             poles = arrays.poles.reshape(-1, 3)
             normal = np.cross(dp.surface_row(arrays, *at, 1, 0) @ poles,
@@ -174,6 +197,21 @@ class Grab:
                 self.normal = normal / np.linalg.norm(normal)
         self.arrays = arrays
         self.point = point_at(arrays, at)
+
+    @staticmethod
+    def _inside(state, arrays, at, tries=10):
+        """(arrays, held): the poles that move the trimmed boundary of a face of a solid
+        held (the analogue of border poles), knots inserted next to the point until an
+        interior pole moves it (the paper's note a)."""
+        for _ in range(tries):
+            held = set(state.held) | dp.influencing(arrays, state.boundary)
+            nu, nv = arrays.weights.shape
+            row = dp.surface_row(arrays, *at)
+            if any(k not in held and 0 < k // nv < nu - 1 and 0 < k % nv < nv - 1
+                   for k in np.nonzero(row)[0]) or state.held:
+                break
+            arrays = dp.refine_at(arrays, *at)
+        return arrays, sorted(held)
 
     def pushed(self, target):
         target = np.asarray(target, float)
@@ -198,7 +236,12 @@ def replay(inputs, params=None):
         grab = Grab(state, current, at)
         state.params.append(at)
         state.points.append(grab.point)
-        current = grab.pushed(np.array(tuple(target)))
+        try:
+            current = grab.pushed(np.array(tuple(target)))
+        except DeformError as e:
+            if e.prop != "Points":
+                raise
+            raise DeformError(f"Points[{i}]: {e}", "Points") from None
     return state._replace(current=current)
 
 
@@ -269,10 +312,19 @@ class DirectPush(DeformFeature):
         """The pushed patch as a face, or, for a face of a solid or shell, the Base with it
         (and the faces a Blend rounds) replaced and sewn again."""
         shape = obj.Base.Shape
-        if not (len(shape.Solids) == 1 or (len(shape.Shells) == 1 and len(shape.Faces) > 1)):
+        if state.surface is not None:
+            surface = bspline.moved(state.surface, state.original, state.current)
+        else:
+            surface = bspline.surface_from_arrays(state.current)
+        face = Part.Face(surface) if state.trim is None else \
+            bspline.face_on(surface, state.trim, "Element")
+        if face is None:
+            raise DeformError(f"{obj.Element}: its trimmed boundary could not be laid on the "
+                              "pushed surface; push less far.", "Targets")
+        if not closed(shape):
             if len(obj.Blend):
                 raise DeformError("Blend needs a face of a solid or shell.", "Blend")
-            return Part.Face(bspline.surface_from_arrays(state.current))
+            return face
         index = bspline.face_of(shape, obj.Element, "Element")[0]
         patches, inner = {index: state.current}, set()
         for name in obj.Blend:
@@ -280,8 +332,12 @@ class DirectPush(DeformFeature):
         if obj.Blend and state.params:
             landed = [(u, v, np.array(tuple(t))) for (u, v), t in zip(state.params, obj.Targets)]
             patches[index] = self._reland(patches[index], landed, inner)
-        result = bspline.replaced_all(shape, {i: Part.Face(bspline.surface_from_arrays(p))
-                                              for i, p in patches.items()})
+        faces = {i: Part.Face(bspline.surface_from_arrays(p)) for i, p in patches.items()}
+        if not obj.Blend:
+            faces[index] = face
+        result = bspline.replaced_all(shape, faces)
+        if result is None and state.trim is not None and not obj.Blend:
+            result = bspline.with_surface(shape, index, surface)
         if result is None:
             raise DeformError(f"{obj.Element} could not be sewn back into the Base after the "
                               "push; push less far or pick another point.", "Targets")

@@ -51,21 +51,62 @@ def curve_row(c, t, derivative=0):
     return dN / W - N * dW / W**2
 
 
+def local_basis(knots, degree, t, derivative=0):
+    """(first, values): the degree + 1 basis functions N_first..N_first+degree that can be
+    nonzero at t (or their derivative); only the knots around t are used, so the cost does
+    not grow with the number of poles."""
+    n = len(knots) - degree - 1
+    k = int(np.clip(np.searchsorted(knots, t, side="right") - 1, degree, n - 1))
+    b = BSpline(knots[k - degree:k + degree + 2], np.eye(degree + 1), degree)
+    if derivative:
+        b = b.derivative(derivative)
+    return k - degree, b(float(t))
+
+
 def surface_row(s, u, v, du=0, dv=0):
-    """Coefficients (nu * nv,) of S (or S_u, S_v) at (u, v) in the row-major poles."""
+    """Coefficients (nu * nv,) of S (or S_u, S_v) at (u, v) in the row-major poles; only
+    the (udegree + 1) x (vdegree + 1) poles around (u, v) are visited."""
     nu, nv = s.weights.shape
-    Nu = basis(s.uknots, s.udegree, nu, u)[0]
-    Nv = basis(s.vknots, s.vdegree, nv, v)[0]
-    w = s.weights
+    iu, Nu = local_basis(s.uknots, s.udegree, u)
+    jv, Nv = local_basis(s.vknots, s.vdegree, v)
+    block = (slice(iu, iu + len(Nu)), slice(jv, jv + len(Nv)))
+    w = s.weights[block]
     R = np.outer(Nu, Nv) * w
     W = R.sum()
     if not (du or dv):
-        return (R / W).ravel()
-    if du:
-        D = np.outer(basis(s.uknots, s.udegree, nu, u, 1)[0], Nv) * w
+        values = R / W
     else:
-        D = np.outer(Nu, basis(s.vknots, s.vdegree, nv, v, 1)[0]) * w
-    return (D / W - R * D.sum() / W**2).ravel()
+        if du:
+            D = np.outer(local_basis(s.uknots, s.udegree, u, 1)[1], Nv) * w
+        else:
+            D = np.outer(Nu, local_basis(s.vknots, s.vdegree, v, 1)[1]) * w
+        values = D / W - R * D.sum() / W**2
+    row = np.zeros((nu, nv))
+    row[block] = values
+    return row.ravel()
+
+
+def influencing(s, uv):
+    """Flat indices of the poles whose basis function is nonzero at any of the parameter
+    points uv (k, 2): the poles that move those points of the surface."""
+    uv = np.atleast_2d(np.asarray(uv, float))
+    nu, nv = s.weights.shape
+    if not uv.size:
+        return set()
+    mats = []
+    for knots, degree, n, t in ((s.uknots, s.udegree, nu, uv[:, 0]),
+                                (s.vknots, s.vdegree, nv, uv[:, 1])):
+        t = np.clip(t, knots[degree], knots[n])
+        m = BSpline.design_matrix(t, knots, degree).tocsr()
+        m.eliminate_zeros()
+        mats.append(m)
+    Bu, Bv = mats
+    found = set()
+    for k in range(len(uv)):
+        ii = Bu.indices[Bu.indptr[k]:Bu.indptr[k + 1]]
+        jj = Bv.indices[Bv.indptr[k]:Bv.indptr[k + 1]]
+        found.update((ii[:, None] * nv + jj[None, :]).ravel().tolist())
+    return found
 
 
 def evaluate(c, t):
@@ -266,6 +307,10 @@ def push_surface(s, u, v, target, size, fixed=(), groups=(), held=()):
     movable = [i * nv + j for i in ii for j in jj if i * nv + j not in held]
     movable += [i for g in on for i in g if i not in movable
                 and 0 < i // nv < nu - 1 and 0 < i % nv < nv - 1]
+    if not np.any(row[movable]):
+        raise DeformError("The grabbed point moves only with poles that must stay (the "
+                          "border of the face, or a trimmed boundary that the faces around "
+                          "it share); pick a point farther inside.", "Points")
     rows = [row]
     rhs = [np.asarray(target, float) - row @ s.poles.reshape(-1, 3)]
     for fu, fv in fixed:
@@ -295,6 +340,19 @@ def refine_surface(s, u, v, size):
                 P, w = P.swapaxes(0, 1), w.T
             s = s._replace(poles=P, weights=w, **({"uknots": knots} if axis == 0
                                                   else {"vknots": knots}))
+    return s
+
+
+def refine_at(s, u, v):
+    """s with one knot inserted in the middle of the knot span that holds u, and of the
+    one that holds v: poles with smaller support next to (u, v) (the shape is kept)."""
+    for axis, t in ((0, u), (1, v)):
+        knots = s.uknots if axis == 0 else s.vknots
+        degree = s.udegree if axis == 0 else s.vdegree
+        k = int(np.clip(np.searchsorted(knots, t, side="right") - 1, degree,
+                        len(knots) - degree - 2))
+        s = _insert_along(s, axis, 0.5 * (knots[k] + knots[k + 1]), 1 + multiplicity(
+            knots, 0.5 * (knots[k] + knots[k + 1])))
     return s
 
 
@@ -443,7 +501,8 @@ def closest_parameter(c, x, samples=400):
 
 
 def closest_uv(s, x, samples=60):
-    """(u, v, distance) of the surface point nearest x: a grid, then Gauss-Newton."""
+    """(u, v, distance) of the surface point nearest x: a grid, then Gauss-Newton (a
+    rank-deficient step where the surface degenerates, so no division by zero there)."""
     x = np.asarray(x, float)
     nu, nv = s.weights.shape
     (u0, u1), (v0, v1) = (s.uknots[s.udegree], s.uknots[-s.udegree - 1]), \
@@ -451,16 +510,21 @@ def closest_uv(s, x, samples=60):
     us, vs = np.linspace(u0, u1, samples), np.linspace(v0, v1, samples)
     Nu = basis(s.uknots, s.udegree, nu, us)
     Nv = basis(s.vknots, s.vdegree, nv, vs)
-    W = Nu @ s.weights @ Nv.T
-    grid = np.einsum("ai,ijk,bj->abk", Nu, s.poles * s.weights[..., None], Nv) / W[..., None]
-    a, b = np.unravel_index(np.argmin(np.linalg.norm(grid - x, axis=2)), W.shape)
+    Pw = np.concatenate([s.poles * s.weights[..., None], s.weights[..., None]], axis=2)
+    H = (Nu @ Pw.reshape(nu, -1)).reshape(samples, nv, 4)
+    grid = np.einsum("bj,ajk->abk", Nv, H)
+    grid = grid[..., :3] / grid[..., 3:]
+    a, b = np.unravel_index(np.argmin(np.linalg.norm(grid - x, axis=2)), grid.shape[:2])
     u, v = us[a], vs[b]
     P = s.poles.reshape(-1, 3)
+    small = 1e-15 * max(u1 - u0, v1 - v0, abs(u0), abs(u1), abs(v0), abs(v1))
     for _ in range(30):
         d = surface_row(s, u, v) @ P - x
         J = np.column_stack([surface_row(s, u, v, 1, 0) @ P, surface_row(s, u, v, 0, 1) @ P])
         step, *_ = np.linalg.lstsq(J, -d, rcond=None)
+        if not np.all(np.isfinite(step)):
+            break
         u, v = float(np.clip(u + step[0], u0, u1)), float(np.clip(v + step[1], v0, v1))
-        if np.abs(step).max() < 1e-15:
+        if np.abs(step).max() <= small:
             break
     return u, v, float(np.linalg.norm(surface_row(s, u, v) @ P - x))

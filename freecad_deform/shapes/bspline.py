@@ -37,8 +37,11 @@ def edge_of(shape, name, prop="Element"):
                           f"Edge{len(shape.Edges)}).", prop)
 
 
-def curve_of(edge):
+def curve_of(edge, prop="Element"):
     """(BSplineCurve covering exactly the edge, note on the conversion)."""
+    if edge.Degenerated:  # a point where a surface collapses: Edge.Curve raises TypeError
+        raise DeformError(f"{prop} is a degenerated edge (a point where its face's surface "
+                          "collapses); pick another edge.", prop)
     kind = edge.Curve.TypeId.split("::Geom")[-1]
     first, last = edge.FirstParameter, edge.LastParameter
     if kind == "BSplineCurve":
@@ -97,7 +100,7 @@ def quad_corners(face):
     """The 4 corners of a planar face bounded by 4 straight edges, in order round the
     outer wire and turning with the face's normal; None for any other face."""
     if face.Surface.TypeId != "Part::GeomPlane" or len(face.Wires) != 1 or \
-            len(face.Edges) != 4 or any(e.Curve.TypeId not in ("Part::GeomLine",
+            len(face.Edges) != 4 or any(e.Degenerated or e.Curve.TypeId not in ("Part::GeomLine",
                                                                 "Part::GeomLineSegment")
                                         for e in face.Edges):
         return None
@@ -108,15 +111,18 @@ def quad_corners(face):
     return corners
 
 
+def _note(kind):
+    return "B-spline" if kind == "BSplineSurface" else (
+        f"{kind} converted exactly" if kind in EXACT else
+        f"{kind} approximated by NurbsConvert (not exact)")
+
+
 def _surface_of(face):
     """(BSplineSurface over the face's parameter range, note on the conversion)."""
     kind = face.Surface.TypeId.split("::Geom")[-1]
-    if kind == "BSplineSurface":
-        surface, note = face.Surface.copy(), "B-spline"
-    else:
-        surface = face.toNurbs().Faces[0].Surface
-        note = (f"{kind} converted exactly" if kind in EXACT else
-                f"{kind} approximated by NurbsConvert (not exact)")
+    note = _note(kind)
+    surface = face.Surface.copy() if kind == "BSplineSurface" else \
+        face.toNurbs().Faces[0].Surface
     u0, u1, v0, v1 = face.ParameterRange
     b = surface.bounds()
     if max(abs(u0 - b[0]), abs(u1 - b[1]), abs(v0 - b[2]), abs(v1 - b[3])) > 1e-9:
@@ -267,3 +273,114 @@ def coons_of(face, prop="Element"):
         patch = dp.coons_patch(d0, d1, c0, c1)
     return patch, (f"planar face with {len(face.Edges)} edge(s): exact Coons patch of its "
                    "boundary (Pratt)")
+
+
+# --- trimmed faces: the boundary kept in parameter space ---------------------------------------
+
+def trimmed_surface(face, prop="Element"):
+    """(BSplineSurface, face, note) of a trimmed face: its surface as a B-spline in the
+    face's own parametrisation (cut to the parameter range, not periodic), and the face
+    (its NURBS form when it was converted) whose pcurves lie on that surface."""
+    kind = face.Surface.TypeId.split("::Geom")[-1]
+    if kind != "BSplineSurface":
+        try:
+            face = face.toNurbs().Faces[0]
+        except Part.OCCError:
+            raise DeformError(f"{prop}: its {kind} surface has no B-spline form here; "
+                              "pick another face.", prop)
+    surface, _ = _surface_of(face)
+    return surface, face, _note(kind) + ", trimmed: rebuilt on its boundary's pcurves"
+
+
+def _pcurve(face, edge, prop):
+    found = face.curveOnSurface(edge)
+    if found is None:
+        raise DeformError(f"{prop}: an edge of its boundary has no curve in the face's "
+                          "parameter space; the face cannot be rebuilt.", prop)
+    return found
+
+
+def boundary_uv(face, surface, prop="Element"):
+    """Parameter points (k, 2) along every pcurve of the face (both of a seam), dense
+    enough to meet every knot span they cross."""
+    count = int(min(4000, 64 + 8 * (surface.NbUPoles + surface.NbVPoles)))
+    points = []
+    for edge in face.Edges:
+        for e in (edge, edge.reversed()) if edge.isSeam(face) else (edge,):
+            c2d, a, b = _pcurve(face, e, prop)
+            points += [(p.x, p.y) for p in c2d.discretize(Number=count, First=a, Last=b)]
+    return np.array(points, float)
+
+
+def face_on(surface, face, prop="Element"):
+    """The face rebuilt on `surface` with the same boundary in parameter space: every edge
+    made again from its pcurve on the new surface, so the face is trimmed the same way in
+    (u, v) (None when OCCT cannot build it)."""
+    forward = face.reversed() if face.Orientation == "Reversed" else face
+    outer = forward.OuterWire
+    wires = [outer] + [w for w in forward.Wires if not w.isSame(outer)]
+    try:
+        built = []
+        for wire in wires:
+            edges = []
+            for edge in wire.OrderedEdges:
+                c2d, a, b = _pcurve(forward, edge, prop)
+                new = c2d.toShape(surface, a, b)
+                if edge.Orientation == "Reversed":
+                    new.reverse()
+                new.fixTolerance(max([edge.Tolerance] + [v.Tolerance for v in edge.Vertexes]))
+                edges.append(new)
+            built.append(Part.Wire(edges))
+        result = Part.Face(surface, built[0])
+        for wire in built[1:]:
+            result = Part.Face(result, wire)
+    except Part.OCCError:
+        return None
+    if face.Orientation == "Reversed":
+        result.reverse()
+    return result if result.isValid() else None
+
+
+def with_surface(shape, index, surface):
+    """`shape` (one solid or shell) with face `index` put on `surface`, which equals the
+    old surface along the face's boundary: the face keeps its very edges (shared with its
+    neighbours, so nothing is sewn), OCCT adds their pcurves on the new surface. None when
+    the result is not one valid closed solid (or shell)."""
+    copy = shape.copy()
+    face = copy.Faces[index]
+    forward = face.reversed() if face.Orientation == "Reversed" else face
+    try:
+        new = Part.Face(surface)
+        new = new.removeShape(new.Wires)
+        for wire in forward.Wires:
+            new.addWire(wire)
+        tolerance = max([1e-7] + [e.Tolerance for e in face.Edges])
+        new.fix(1e-7, 1e-7, max(1e-3, 2 * tolerance))
+        if face.Orientation == "Reversed":
+            new.reverse()
+        faces = [new if i == index else f for i, f in enumerate(copy.Faces)]
+        result = Part.Shell(faces)
+        if len(shape.Solids) == 1:
+            result = Part.Solid(result)
+            if result.Volume < 0:
+                result.reverse()
+    except Part.OCCError:
+        return None
+    ok = result.isValid() and len(result.Faces) == len(faces) and \
+        (not shape.Solids or result.Shells[0].isClosed())
+    return result if ok else None
+
+
+def moved(surface, before, after):
+    """The Part surface of the arrays `after`: a copy of `surface` (whose arrays are
+    `before`) with only the poles that moved set, when no knot was inserted (fast on a
+    large surface, the knots exactly kept); built anew otherwise."""
+    if before.poles.shape != after.poles.shape or not (
+            np.array_equal(before.uknots, after.uknots) and
+            np.array_equal(before.vknots, after.vknots)):
+        return surface_from_arrays(after)
+    new = surface.copy()
+    for i, j in zip(*np.nonzero(np.any(before.poles != after.poles, axis=2))):
+        new.setPole(int(i) + 1, int(j) + 1, App.Vector(*after.poles[i, j]),
+                    float(after.weights[i, j]))
+    return new

@@ -32,6 +32,21 @@ def distance(shape, point):
     return shape.distToShape(Part.Vertex(point))[0]
 
 
+def assert_pushed_in_solid(case, before, after, index, target, land=1e-7):
+    """One valid solid (or shell) with as many faces, closed when it was; the target on the
+    pushed face; every other face of the same type and area (1e-9 relative)."""
+    case.assertTrue(after.isValid())
+    case.assertEqual(len(after.Faces), len(before.Faces))
+    case.assertEqual(len(after.Solids), len(before.Solids))
+    if before.Solids:
+        case.assertTrue(after.Shells[0].isClosed())
+    case.assertLess(distance(after.Faces[index], target), land)
+    for i, (a, b) in enumerate(zip(before.Faces, after.Faces)):
+        if i != index:
+            case.assertEqual(a.Surface.TypeId, b.Surface.TypeId)
+            case.assertAlmostEqual(a.Area, b.Area, delta=1e-9 * b.Area)
+
+
 class PushCase(unittest.TestCase):
     def setUp(self):
         self.doc = fc.new_document("DirectPush")
@@ -276,13 +291,16 @@ class TestSurfaces(PushCase):
                             if f.distToShape(Part.Vertex(target))[0] > 1e-6)
             self.assertEqual(others, kept)
 
-    def test_a_face_with_a_hole_is_refused(self):
+    def test_a_face_with_a_hole_keeps_its_hole_and_the_solid_stays_closed(self):
         holed = self.feature(Part.makeBox(20, 20, 5).cut(Part.makeCylinder(3, 5, V(10, 10, 0))),
                              "Holed")
         top = next(i for i, f in enumerate(holed.Shape.Faces) if abs(f.CenterOfMass.z - 5) < 1e-9)
-        obj = fd.make_direct_push(holed, f"Face{top + 1}", V(3, 3, 5), V(3, 3, 6))
-        self.assertIn("Invalid", obj.State)
-        self.assertIn("no exact patch", obj.getStatusString())
+        obj = fd.make_direct_push(holed, f"Face{top + 1}", V(4, 4, 5), V(4, 4, 6))
+        self.assertValid(obj)
+        assert_pushed_in_solid(self, holed.Shape, obj.Shape, top, V(4, 4, 6))
+        self.assertGreater(obj.Shape.Volume, holed.Shape.Volume)
+        self.assertEqual(len(obj.Shape.Faces[top].Wires), 2)
+        self.assertIn("trimmed", obj.Conversion)
 
     def test_undo_and_reopen(self):
         box = self.feature(Part.makeBox(20, 20, 10), "Box")
