@@ -5,7 +5,7 @@ from ..geometry import motion as mo
 from ..geometry.bend import bend_tangents, check_bend
 from ..geometry.errors import DeformError
 from ..shapes import brep
-from ..shapes.convert import mesh_arrays, plane_arrays, points_array, points_from_array
+from ..shapes.convert import mesh_arrays, plane_arrays, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature
 
@@ -44,10 +44,10 @@ class Bend(DeformFeature):
         else:
             of_s = mesh_sweep.bend_motion(axis_point, axis_direction, angle, origin, normal, gap)
         if kind == "Points":
-            pts = points_array(obj.Base.Points)
+            pts, ignored = ss.cloud(obj.Base)
             out = (points_sweep.sweep_points(pts, origin, normal, motion) if gap is None else
                    points_sweep.map_points_between(pts, origin, normal, gap, of_s))
-            return points_from_array(out), {}
+            return points_from_array(out), ignored
         v, t = mesh_arrays(obj.Base.Mesh)
         return ss.mesh_result(obj.Base.Mesh, *(
             mesh_sweep.sweep_mesh(v, t, origin, normal, motion, obj.Samples) if gap is None

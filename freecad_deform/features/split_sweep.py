@@ -45,6 +45,9 @@ RESULTS = (
          "perpendicular to the trajectory, else C0.", output=True),
     Prop("App::PropertyStringList", "SplitFaces", "Result",
          "Faces of the Base that a separating plane cut.", output=True),
+    Prop("App::PropertyInteger", "IgnoredPoints", "Result",
+         "Points of a point-cloud Base left out because a coordinate is NaN or infinite "
+         "(a scanner's missing returns); they are not in the result.", output=True),
 )
 
 
@@ -163,15 +166,15 @@ def lofted_join(near, cut, profiles, far, far_plane, end, joints, prop):
 def keyed(obj, kind, origin, normal, gap, motion):
     """Result and outputs of a Case 1 deformation by a key motion, for every kind of Base."""
     from ..geometry import mesh_sweep, points_sweep
-    from ..shapes.convert import mesh_arrays, points_array, points_from_array
+    from ..shapes.convert import mesh_arrays, points_from_array
     if gap is not None:
         raise DeformError("KeyPlacements move the part beyond one Plane; clear KeyPlacements "
                           "or UsePlane2.", "KeyPlacements")
     if obj.Samples < 2:
         raise DeformError("A key motion needs at least 2 Samples; raise Samples.", "Samples")
     if kind == "Points":
-        pts = points_sweep.sweep_points(points_array(obj.Base.Points), origin, normal, motion)
-        return points_from_array(pts), {}
+        pts, ignored = cloud(obj.Base)
+        return points_from_array(points_sweep.sweep_points(pts, origin, normal, motion)), ignored
     if kind == "Mesh":
         return mesh_result(obj.Base.Mesh, *mesh_sweep.sweep_mesh(
             *mesh_arrays(obj.Base.Mesh), origin, normal, motion, obj.Samples))
@@ -206,6 +209,13 @@ def mesh_result(base_mesh, vertices, triangles):
     from ..shapes.convert import mesh_arrays, mesh_from_arrays
     change = mesh_volume(vertices, triangles) - mesh_volume(*mesh_arrays(base_mesh))
     return mesh_from_arrays(vertices, triangles), {"VolumeChange": change}
+
+
+def cloud(base):
+    """The finite points of a point-cloud Base and the IgnoredPoints output."""
+    from ..shapes.convert import points_array
+    pts = points_array(base.Points)
+    return pts, {"IgnoredPoints": base.Points.CountPoints - len(pts)}
 
 
 def volume_change(result, shape):

@@ -6,7 +6,7 @@ from ..geometry.errors import DeformError
 from ..geometry.points_stretch import stretch_points
 from ..geometry.polyline import FoldedSurface
 from ..shapes import brep
-from ..shapes.convert import mesh_arrays, points_array, points_from_array
+from ..shapes.convert import mesh_arrays, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature, Prop
 
@@ -35,8 +35,9 @@ class Stretch(DeformFeature):
             return ss.keyed(obj, kind, origin, normal, gap, motion)
         second = () if gap is None else (origin + gap * normal, normal)
         if kind == "Points":
-            pts = stretch_points(points_array(obj.Base.Points), origin, normal, distance, *second)
-            return points_from_array(pts), {}
+            pts, ignored = ss.cloud(obj.Base)
+            return points_from_array(stretch_points(pts, origin, normal, distance, *second)), \
+                ignored
         if kind == "Mesh":
             from ..geometry.mesh_stretch import stretch_mesh
             return ss.mesh_result(obj.Base.Mesh, *stretch_mesh(

@@ -6,7 +6,7 @@ from ..geometry import motion as mo
 from ..geometry.bend import twist_tangents
 from ..geometry.errors import DeformError
 from ..shapes import brep
-from ..shapes.convert import mesh_arrays, plane_arrays, points_array, points_from_array
+from ..shapes.convert import mesh_arrays, plane_arrays, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature, Prop
 
@@ -47,12 +47,12 @@ class Twist(DeformFeature):
     def _discrete(self, obj, kind, origin, normal, gap, angle):
         from ..geometry import mesh_sweep, points_sweep
         if kind == "Points":
-            pts = points_array(obj.Base.Points)
+            pts, ignored = ss.cloud(obj.Base)
             axis = plane_arrays(obj.Axis) if obj.UseAxis else (
                 _cloud_centroid(pts, origin, normal), normal)
             of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
             out = points_sweep.map_points_between(pts, origin, normal, gap, of_s)
-            return points_from_array(out), {}
+            return points_from_array(out), ignored
         v, t = mesh_arrays(obj.Base.Mesh)
         axis = plane_arrays(obj.Axis) if obj.UseAxis else (
             section_centroid_mesh(obj.Base.Mesh, origin, normal), normal)

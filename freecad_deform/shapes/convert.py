@@ -73,8 +73,14 @@ def mesh_from_arrays(vertices, triangles):
 
 
 def points_array(points):
-    """(N,3) array of a Points.Points kernel, in global coordinates."""
-    return np.array([tuple(p) for p in points.Points], float).reshape(-1, 3)
+    """(N,3) array of the finite points of a Points.Points kernel, in global coordinates.
+
+    Scans carry points with NaN (or infinite) coordinates where the sensor got no return
+    (an organized cloud keeps its grid that way); they are left out, so no distance,
+    spacing or plane test sees them. The count left out is CountPoints - len(result).
+    """
+    pts = np.array([tuple(p) for p in points.Points], float).reshape(-1, 3)
+    return pts[np.isfinite(pts).all(axis=1)]
 
 
 def points_from_array(array):
