@@ -199,16 +199,18 @@ class Grab:
         self.point = point_at(arrays, at)
 
     @staticmethod
-    def _inside(state, arrays, at, tries=10):
+    def _inside(state, arrays, at, tries=10, share=0.5):
         """(arrays, held): the poles that move the trimmed boundary of a face of a solid
-        held (the analogue of border poles), knots inserted next to the point until an
-        interior pole moves it (the paper's note a)."""
+        held (the analogue of border poles), knots inserted next to the point (the paper's
+        note a) until the poles free to move carry `share` of the point's basis (fewer
+        would move far to carry the point)."""
         for _ in range(tries):
             held = set(state.held) | dp.influencing(arrays, state.boundary)
             nu, nv = arrays.weights.shape
             row = dp.surface_row(arrays, *at)
-            if any(k not in held and 0 < k // nv < nu - 1 and 0 < k % nv < nv - 1
-                   for k in np.nonzero(row)[0]) or state.held:
+            free = sum(row[k] for k in np.nonzero(row)[0] if k not in held and
+                       0 < k // nv < nu - 1 and 0 < k % nv < nv - 1)
+            if free >= share or state.held:
                 break
             arrays = dp.refine_at(arrays, *at)
         return arrays, sorted(held)
@@ -316,32 +318,45 @@ class DirectPush(DeformFeature):
             surface = bspline.moved(state.surface, state.original, state.current)
         else:
             surface = bspline.surface_from_arrays(state.current)
-        face = Part.Face(surface) if state.trim is None else \
-            bspline.face_on(surface, state.trim, "Element")
-        if face is None:
-            raise DeformError(f"{obj.Element}: its trimmed boundary could not be laid on the "
-                              "pushed surface; push less far.", "Targets")
         if not closed(shape):
             if len(obj.Blend):
                 raise DeformError("Blend needs a face of a solid or shell.", "Blend")
-            return face
+            return self._rebuilt(obj, state, surface)
         index = bspline.face_of(shape, obj.Element, "Element")[0]
+        if not obj.Blend:
+            # the boundary did not move: the face keeps its edges, nothing is sewn
+            result = bspline.with_surface(shape, index, surface)
+            if result is None:
+                result = bspline.replaced(shape, index, self._rebuilt(obj, state, surface))
+            if result is None:
+                raise DeformError(f"{obj.Element} could not be joined to its neighbours "
+                                  "again after the push; push less far or pick another "
+                                  "point.", "Targets")
+            return result
         patches, inner = {index: state.current}, set()
         for name in obj.Blend:
             inner |= self._blend(shape, patches, name, state.tol).get(index, set())
-        if obj.Blend and state.params:
+        if state.params:
             landed = [(u, v, np.array(tuple(t))) for (u, v), t in zip(state.params, obj.Targets)]
             patches[index] = self._reland(patches[index], landed, inner)
-        faces = {i: Part.Face(bspline.surface_from_arrays(p)) for i, p in patches.items()}
-        if not obj.Blend:
-            faces[index] = face
-        result = bspline.replaced_all(shape, faces)
-        if result is None and state.trim is not None and not obj.Blend:
-            result = bspline.with_surface(shape, index, surface)
+        result = bspline.replaced_all(shape, {i: Part.Face(bspline.surface_from_arrays(p))
+                                              for i, p in patches.items()})
         if result is None:
             raise DeformError(f"{obj.Element} could not be sewn back into the Base after the "
                               "push; push less far or pick another point.", "Targets")
         return result
+
+    @staticmethod
+    def _rebuilt(obj, state, surface):
+        """The pushed face on its own: the new surface within its range, or, trimmed, with
+        its boundary laid on the new surface through the pcurves."""
+        if state.trim is None:
+            return Part.Face(surface)
+        face = bspline.face_on(surface, state.trim, "Element")
+        if face is None:
+            raise DeformError(f"{obj.Element}: its trimmed boundary could not be laid on "
+                              "the pushed surface; push less far.", "Targets")
+        return face
 
     @staticmethod
     def _blend(shape, patches, name, tol):

@@ -366,7 +366,8 @@ def with_surface(shape, index, surface):
                 result.reverse()
     except Part.OCCError:
         return None
-    ok = result.isValid() and len(result.Faces) == len(faces) and \
+    ok = 0 < new.Area <= Part.Face(surface).Area * (1 + 1e-9) and result.isValid() and \
+        len(result.Faces) == len(faces) and \
         (not shape.Solids or result.Shells[0].isClosed())
     return result if ok else None
 
