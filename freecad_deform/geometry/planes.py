@@ -32,8 +32,10 @@ def parallel_gap(origin, normal, origin2, normal2, tol=1e-9):
     """Distance from plane 1 to plane 2 along normal 1; they must be parallel and in order."""
     n1, n2 = unit_normal(normal), unit_normal(normal2, "Plane2")
     if np.linalg.norm(np.cross(n1, n2)) > tol:
-        raise DeformError("Plane2 is not parallel to Plane; a stretch needs parallel planes, "
-                          "so turn Plane2 to match Plane.", "Plane2")
+        angle = np.degrees(np.arccos(np.clip(abs(n1 @ n2), 0.0, 1.0)))
+        raise DeformError(f"Plane2 is not parallel to Plane (they meet at {angle:.3g} degrees): "
+                          f"the region between them is bounded by parallel planes, so turn "
+                          f"Plane2 to match Plane.", "Plane2")
     gap = float((np.asarray(origin2, float) - np.asarray(origin, float)) @ n1)
     if gap <= tol:
         raise DeformError("Plane2 must lie beyond Plane along its normal (on the moving side); "

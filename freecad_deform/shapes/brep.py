@@ -27,11 +27,29 @@ def oriented(solid):
     """A copy of `solid` whose outer shell bounds material outward and whose inner (void)
     shells face the cavities: STEP files bring reversed solids and voids oriented as
     material, which booleans would hand back as separate solids."""
-    shells = solid.Shells
-    outer = max(range(len(shells)), key=lambda k: abs(shells[k].Volume))
-    if all((sh.Volume > 0) == (k == outer) for k, sh in enumerate(shells)):
+    volumes = shell_volumes(solid)
+    outer = int(np.argmax(np.abs(volumes)))
+    if all((v > 0) == (k == outer) for k, v in enumerate(volumes)):
         return solid.copy()
-    return solid_of_shells([sh.copy() for sh in shells])
+    if len(volumes) == 1:
+        return solid.reversed().copy()
+    return solid_of_shells([sh.copy() for sh in solid.Shells])
+
+
+_VOLUMES = []  # (shape, signed shell volumes) of recent Base solids, newest last
+
+
+def shell_volumes(solid):
+    """Signed volume of each shell of `solid` (negative: it faces inward), remembered for
+    the last few solids: a Base is read at every recompute, and OCCT's volume of B-spline
+    faces costs up to a second."""
+    for shape, volumes in _VOLUMES:
+        if shape.isEqual(solid):  # same orientation too
+            return volumes
+    volumes = [sh.Volume for sh in solid.Shells]
+    _VOLUMES.append((solid, volumes))  # holding the shape keeps its identity unique
+    del _VOLUMES[:-16]
+    return volumes
 
 
 def solid_of_shells(shells):
@@ -48,7 +66,7 @@ def solids_volume(shape):
     outer shell's volume less its voids' (loose faces and wires have none)."""
     total = 0.0
     for solid in shape.Solids:
-        volumes = sorted((abs(sh.Volume) for sh in solid.Shells), reverse=True)
+        volumes = sorted(np.abs(shell_volumes(solid)), reverse=True)
         total += volumes[0] - sum(volumes[1:]) if volumes else 0.0
     return total
 
