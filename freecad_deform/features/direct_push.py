@@ -112,23 +112,44 @@ def _planar_few_edges(face):
         len(face.Edges) <= 4
 
 
-def _face_start(shape, inputs, tol):
-    name = inputs["Element"]
-    face = bspline.face_of(shape, name, "Element")[1]
+_ELEMENTS = {}   # a few recent faces: (face, what _element made of it); see _element
+
+
+def _element(shape, face):
+    """(arrays, note, Part surface or None, trimmed face or None, boundary (u, v) or None)
+    of a face: its patch, its surface as arrays, and for a trimmed face of a solid or
+    shell its pcurves' points. Kept for the last few faces (the entry holds the face, so
+    its hash stays its own): a replay on a 100k-pole terrain face then costs no copy of
+    its poles."""
+    key = (face.hashCode(), face.Orientation, closed(shape))
+    if key in _ELEMENTS:
+        return _ELEMENTS[key][1]
     corners = bspline.quad_corners(face)
     surface = trim = boundary = None
     if corners is not None:
         s, note = dp.bezier_patch(corners), "planar four-sided face: exact bicubic Bezier patch (Pratt)"
     elif not bspline.trimmed(face):
-        surface, note = bspline.bspline_of(face, "Element")
+        surface, note = bspline.bspline_of(face, "Element", checked=True)
     elif _planar_few_edges(face):
         s, note = bspline.coons_of(face, "Element")
     else:
         surface, trim, note = bspline.trimmed_surface(face, "Element")
-        if closed(shape):
+        if key[2]:
             boundary = bspline.boundary_uv(trim, surface, "Element")
     if surface is not None:
         s = bspline.surface_arrays(surface)
+    for array in s[:4]:
+        array.flags.writeable = False
+    if len(_ELEMENTS) >= 4:
+        _ELEMENTS.pop(next(iter(_ELEMENTS)))
+    _ELEMENTS[key] = (face, (s, note, surface, trim, boundary))
+    return s, note, surface, trim, boundary
+
+
+def _face_start(shape, inputs, tol):
+    name = inputs["Element"]
+    face = bspline.face_of(shape, name, "Element")[1]
+    s, note, surface, trim, boundary = _element(shape, face)
     original = s
 
     def uv(x, what):

@@ -307,10 +307,11 @@ def push_surface(s, u, v, target, size, fixed=(), groups=(), held=()):
     movable = [i * nv + j for i in ii for j in jj if i * nv + j not in held]
     movable += [i for g in on for i in g if i not in movable
                 and 0 < i // nv < nu - 1 and 0 < i % nv < nv - 1]
-    if not np.any(row[movable]):
-        raise DeformError("The grabbed point moves only with poles that must stay (the "
-                          "border of the face, or a trimmed boundary that the faces around "
-                          "it share); pick a point farther inside.", "Points")
+    if row[movable].sum() < 1e-3:   # the poles that may move would go >1000x as far
+        raise DeformError("The grabbed point is on (or a hair from) the border of the face, "
+                          "a degenerated edge or a boundary shared with the faces around it, "
+                          "where only poles that must stay move it; pick a point farther "
+                          "inside.", "Points")
     rows = [row]
     rhs = [np.asarray(target, float) - row @ s.poles.reshape(-1, 3)]
     for fu, fv in fixed:

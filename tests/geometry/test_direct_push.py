@@ -277,3 +277,104 @@ def test_coons_patch_of_four_quarter_circles_is_the_disk():
                                                       dp.surface_row(s, a, b, 0, 1) @ P))
     assert area == pytest.approx(np.pi * r * r, rel=1e-12)
     assert np.all(s.poles[..., 2] == 0)
+
+
+# --- real-surface traits: C1 knots, collapsed rows, trimmed boundaries, large nets ----------
+
+def c1_surface(nu=18, nv=8, collapsed=False, scale=1.0, offset=(0, 0, 0)):
+    """A bicubic surface like real IGES ones: interior knots of multiplicity 2 (C1), a
+    wavy net; `collapsed`: the first row of poles is one point (a degenerated edge)."""
+    def knots(n):
+        inner = np.repeat(np.linspace(0, 1, (n - 4) // 2 + 2)[1:-1], 2)
+        return np.r_[np.zeros(4), inner, np.ones(4)]
+    assert nu % 2 == 0 and nv % 2 == 0
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    P = np.stack([10 * i, 12 * j, 6 * np.sin(i / 3) * np.cos(j / 2.5)], axis=2) * scale
+    if collapsed:
+        P[0] = P[0, 0]
+    P = P + np.asarray(offset, float)
+    return dp.Surface(P, np.ones((nu, nv)), knots(nu), knots(nv), 3, 3)
+
+
+def scipy_point(s, u, v, poles=None):
+    """The test's own evaluation (non-rational): scipy BSpline along u, then along v."""
+    su = BSpline(s.uknots, s.poles if poles is None else poles, s.udegree)(u)
+    return BSpline(s.vknots, su, s.vdegree)(v)
+
+
+def test_local_rows_equal_the_full_basis_on_c1_knots():
+    s = c1_surface(18, 14)
+    nu, nv = s.weights.shape
+    for u, v in ((0.0, 0.0), (1 / 7, 0.5), (0.3, 1.0), (1.0, 0.77), (0.5, 1 / 6)):
+        Nu = BSpline(s.uknots, np.eye(nu), 3)(u)
+        Nv = BSpline(s.vknots, np.eye(nv), 3)(v)
+        np.testing.assert_allclose(dp.surface_row(s, u, v), np.outer(Nu, Nv).ravel(),
+                                   atol=1e-14)
+        dNu = BSpline(s.uknots, np.eye(nu), 3).derivative()(u)
+        np.testing.assert_allclose(dp.surface_row(s, u, v, 1, 0), np.outer(dNu, Nv).ravel(),
+                                   atol=1e-11)
+
+
+def test_influencing_poles_are_those_with_a_nonzero_basis_on_the_boundary():
+    s = c1_surface(18, 8)
+    t = np.linspace(0, 1, 50)
+    loop = np.column_stack([0.3 + 0.2 * np.cos(2 * np.pi * t), 0.5 + 0.3 * np.sin(2 * np.pi * t)])
+    found = dp.influencing(s, loop)
+    Nu = BSpline(s.uknots, np.eye(18), 3)(loop[:, 0])
+    Nv = BSpline(s.vknots, np.eye(8), 3)(loop[:, 1])
+    expected = {i * 8 + j for k in range(len(loop)) for i in np.nonzero(Nu[k])[0]
+                for j in np.nonzero(Nv[k])[0]}
+    assert found == expected
+
+
+def test_refining_at_a_point_keeps_the_surface():
+    s = c1_surface(18, 8, collapsed=True)
+    r = dp.refine_at(s, 0.31, 0.52)
+    assert r.weights.shape == (19, 9)
+    for u, v in np.random.default_rng(1).random((40, 2)):
+        assert np.abs(scipy_point(r, u, v) - scipy_point(s, u, v)).max() < 1e-12
+
+
+def test_push_next_to_a_trimmed_boundary_with_its_poles_held_keeps_the_boundary():
+    s = c1_surface(18, 8)
+    t = np.linspace(0, 1, 400)
+    boundary = np.column_stack([0.2 + 0.6 * t, 0.25 + 0.1 * np.sin(6 * t)])   # a trim curve
+    held = dp.influencing(s, boundary)
+    u, v = 0.5, 0.7
+    target = scipy_point(s, u, v) + [0, 0, 4]
+    new = dp.push_surface(s, u, v, target, 5, held=held)
+    assert np.abs(scipy_point(new, u, v) - target).max() < 1e-9
+    moved = np.abs(scipy_point(new, boundary[:, 0], boundary[:, 1]) -
+                   scipy_point(s, boundary[:, 0], boundary[:, 1])).max()
+    assert moved == 0.0
+
+
+def test_a_point_on_a_collapsed_row_is_refused_and_one_beside_it_lands():
+    s = c1_surface(18, 14, collapsed=True)
+    apex = s.poles[0, 0]
+    u, v, d = dp.closest_uv(s, apex)
+    assert np.isfinite([u, v, d]).all() and d < 1e-12
+    with pytest.raises(DeformError, match="border") as err:
+        dp.push_surface(s, u, v, apex + [0, 0, 3], 5)
+    assert err.value.prop == "Points"
+    target = scipy_point(s, 0.02, 0.5) + [0, 0, 3]
+    new = dp.push_surface(s, 0.02, 0.5, target, 5)
+    assert np.isfinite(new.poles).all()
+    assert np.abs(scipy_point(new, 0.02, 0.5) - target).max() < 1e-9
+    assert np.all(new.poles[0] == apex)                      # the collapsed row stays
+
+
+def test_a_terrain_sized_net_is_pushed_locally_and_lands_to_its_scale():
+    """312 x 322 poles at km coordinates (like occt_terrain.brep's 312 x 323): only the
+    local poles move, the point lands to 1e-12 of the model size."""
+    nu, nv = 312, 322
+    s = c1_surface(nu, nv, scale=25.0, offset=(82100, 80300, 9700))
+    u, v = 0.4123, 0.7771
+    x = scipy_point(s, u, v)
+    uu, vv, d = dp.closest_uv(s, x)
+    assert d < 1e-9 * 1e4
+    target = x + [3, -2, 25]
+    new = dp.push_surface(s, uu, vv, target, 5)
+    assert np.abs(scipy_point(new, uu, vv) - target).max() < 1e-12 * 1e5
+    moved = np.nonzero(np.abs(new.poles - s.poles).max(axis=2))
+    assert len(moved[0]) <= 25
