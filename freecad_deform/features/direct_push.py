@@ -102,11 +102,6 @@ def _edge_start(shape, inputs, tol):
                  [], [], note, tol)
 
 
-def closed(shape):
-    """Whether a face of `shape` must stay joined to its neighbours (one solid or shell)."""
-    return len(shape.Solids) == 1 or (len(shape.Shells) == 1 and len(shape.Faces) > 1)
-
-
 def _planar_few_edges(face):
     return face.Surface.TypeId == "Part::GeomPlane" and len(face.Wires) == 1 and \
         len(face.Edges) <= 4
@@ -121,7 +116,7 @@ def _element(shape, face):
     shell its pcurves' points. Kept for the last few faces (the entry holds the face, so
     its hash stays its own): a replay on a 100k-pole terrain face then costs no copy of
     its poles."""
-    key = (face.hashCode(), face.Orientation, closed(shape))
+    key = (face.hashCode(), face.Orientation, bspline.owner_of(shape, face)[0] is not None)
     if key in _ELEMENTS:
         return _ELEMENTS[key][1]
     corners = bspline.quad_corners(face)
@@ -332,40 +327,43 @@ class DirectPush(DeformFeature):
         return self._face(obj, state), outputs
 
     def _face(self, obj, state):
-        """The pushed patch as a face, or, for a face of a solid or shell, the Base with it
-        (and the faces a Blend rounds) replaced and sewn again."""
+        """The Base with the pushed face in place of the element (alone when the Base is
+        the face). A face of a solid or shell keeps its edges, shared with its neighbours
+        (the border and boundary poles did not move), so the solid stays closed; a Blend
+        rounds edges and the faces are sewn again. Everything else in the Base stays."""
         shape = obj.Base.Shape
+        face = bspline.face_of(shape, obj.Element, "Element")[1]
         if state.surface is not None:
             surface = bspline.moved(state.surface, state.original, state.current)
         else:
             surface = bspline.surface_from_arrays(state.current)
-        if not closed(shape):
+        owner, index = bspline.owner_of(shape, face)
+        if owner is None:
             if len(obj.Blend):
                 raise DeformError("Blend needs a face of a solid or shell.", "Blend")
-            return self._rebuilt(obj, state, surface)
-        index = bspline.face_of(shape, obj.Element, "Element")[0]
+            new = self._rebuilt(obj, state, surface)
+            return new if shape.ShapeType == "Face" else shape.replaceShape([(face, new)])
         if not obj.Blend:
-            # the boundary did not move: the face keeps its edges, nothing is sewn
-            result = bspline.with_surface(shape, index, surface)
+            result = bspline.with_surface(owner, index, surface)
             if result is None:
-                result = bspline.replaced(shape, index, self._rebuilt(obj, state, surface))
-            if result is None:
-                raise DeformError(f"{obj.Element} could not be joined to its neighbours "
-                                  "again after the push; push less far or pick another "
-                                  "point.", "Targets")
-            return result
+                result = bspline.replaced(owner, index, self._rebuilt(obj, state, surface))
+        else:
+            result = self._blended(obj, state, owner, index)
+        if result is None:
+            raise DeformError(f"{obj.Element} could not be joined to its neighbours again "
+                              "after the push; push less far or pick another point.",
+                              "Targets")
+        return result if owner.isSame(shape) else shape.replaceShape([(owner, result)])
+
+    def _blended(self, obj, state, owner, index):
         patches, inner = {index: state.current}, set()
         for name in obj.Blend:
-            inner |= self._blend(shape, patches, name, state.tol).get(index, set())
+            inner |= self._blend(owner, patches, name, state.tol).get(index, set())
         if state.params:
             landed = [(u, v, np.array(tuple(t))) for (u, v), t in zip(state.params, obj.Targets)]
             patches[index] = self._reland(patches[index], landed, inner)
-        result = bspline.replaced_all(shape, {i: Part.Face(bspline.surface_from_arrays(p))
-                                              for i, p in patches.items()})
-        if result is None:
-            raise DeformError(f"{obj.Element} could not be sewn back into the Base after the "
-                              "push; push less far or pick another point.", "Targets")
-        return result
+        return bspline.replaced_all(owner, {i: Part.Face(bspline.surface_from_arrays(p))
+                                            for i, p in patches.items()})
 
     @staticmethod
     def _rebuilt(obj, state, surface):

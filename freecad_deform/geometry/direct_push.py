@@ -345,15 +345,18 @@ def refine_surface(s, u, v, size):
 
 
 def refine_at(s, u, v):
-    """s with one knot inserted in the middle of the knot span that holds u, and of the
-    one that holds v: poles with smaller support next to (u, v) (the shape is kept)."""
+    """s with a knot inserted in the middle of every knot span that the basis functions at
+    (u, v) cover, along u and along v: the poles next to the point get half the support
+    on both sides (the shape is kept)."""
     for axis, t in ((0, u), (1, v)):
         knots = s.uknots if axis == 0 else s.vknots
-        degree = s.udegree if axis == 0 else s.vdegree
-        k = int(np.clip(np.searchsorted(knots, t, side="right") - 1, degree,
-                        len(knots) - degree - 2))
-        s = _insert_along(s, axis, 0.5 * (knots[k] + knots[k + 1]), 1 + multiplicity(
-            knots, 0.5 * (knots[k] + knots[k + 1])))
+        p = s.udegree if axis == 0 else s.vdegree
+        k = int(np.clip(np.searchsorted(knots, t, side="right") - 1, p, len(knots) - p - 2))
+        lo, hi = max(k - p, p), min(k + p, len(knots) - p - 2)
+        for mid in [0.5 * (knots[m] + knots[m + 1]) for m in range(lo, hi + 1)
+                    if knots[m + 1] > knots[m]]:
+            s = _insert_along(s, axis, mid, 1 + multiplicity(
+                s.uknots if axis == 0 else s.vknots, mid))
     return s
 
 

@@ -188,6 +188,16 @@ def with_poles(surface, poles):
     return new
 
 
+def owner_of(shape, face):
+    """(the solid, else the shell of more than one face, that holds `face` in `shape`,
+    the face's index in it), or (None, None) for a face on its own."""
+    for owner in list(shape.Solids) + [s for s in shape.Shells if len(s.Faces) > 1]:
+        for i, f in enumerate(owner.Faces):
+            if f.isSame(face):
+                return owner, i
+    return None, None
+
+
 def replaced(shape, index, face):
     """`shape` (one shell or one solid) with face `index` replaced by `face`, sewn; None
     when the shape is not a single shell or solid or the result is not valid."""
@@ -355,33 +365,36 @@ def face_on(surface, face, prop="Element"):
 
 
 def with_surface(shape, index, surface):
-    """`shape` (one solid or shell) with face `index` put on `surface`, which equals the
-    old surface along the face's boundary: the face keeps its very edges (shared with its
-    neighbours, so nothing is sewn), OCCT adds their pcurves on the new surface. None when
-    the result is not one valid closed solid (or shell)."""
+    """`shape` (a solid, cavities too, or a shell) with face `index` put on `surface`,
+    which equals the old surface along the face's boundary: the face keeps its very edges
+    (shared with its neighbours, so nothing is sewn), OCCT adds their pcurves on the new
+    surface. None when the result is not valid with every shell of a solid closed."""
     copy = shape.copy()
     face = copy.Faces[index]
     forward = face.reversed() if face.Orientation == "Reversed" else face
     try:
+        # a point of the boundary (it did not move) tells how the new surface turns
+        edge = next(e for e in face.Edges if not e.Degenerated)
+        point = edge.valueAt(0.5 * (edge.FirstParameter + edge.LastParameter))
+        uv = surface.parameter(point)
+        old_uv = face.Surface.parameter(point)
+        flipped = surface.normal(*uv).dot(forward.normalAt(*old_uv)) < 0
         new = Part.Face(surface)
         new = new.removeShape(new.Wires)
         for wire in forward.Wires:
-            new.addWire(wire)
+            new.addWire(wire.reversed() if flipped else wire)
         tolerance = max([1e-7] + [e.Tolerance for e in face.Edges])
         new.fix(1e-7, 1e-7, max(1e-3, 2 * tolerance))
-        if face.Orientation == "Reversed":
+        if new.normalAt(*uv).dot(face.normalAt(*old_uv)) < 0:
             new.reverse()
-        faces = [new if i == index else f for i, f in enumerate(copy.Faces)]
-        result = Part.Shell(faces)
-        if len(shape.Solids) == 1:
-            result = Part.Solid(result)
-            if result.Volume < 0:
-                result.reverse()
+        if not 0 < new.Area <= Part.Face(surface).Area * (1 + 1e-9):
+            return None   # the boundary did not bound the same region of the new surface
+        result = copy.replaceShape([(face, new)])
     except Part.OCCError:
         return None
-    ok = 0 < new.Area <= Part.Face(surface).Area * (1 + 1e-9) and result.isValid() and \
-        len(result.Faces) == len(faces) and \
-        (not shape.Solids or result.Shells[0].isClosed())
+    ok = result.isValid() and len(result.Faces) == len(shape.Faces) and \
+        len(result.Shells) == len(shape.Shells) and \
+        all(s.isClosed() for solid in result.Solids for s in solid.Shells)
     return result if ok else None
 
 
