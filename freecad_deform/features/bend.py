@@ -5,7 +5,7 @@ from ..geometry import motion as mo
 from ..geometry.bend import bend_tangents, check_bend
 from ..geometry.errors import DeformError
 from ..shapes import brep
-from ..shapes.convert import mesh_arrays, plane_arrays, points_from_array
+from ..shapes.convert import mesh_arrays, mesh_eps, plane_arrays, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature
 
@@ -50,8 +50,9 @@ class Bend(DeformFeature):
             return points_from_array(out), ignored
         v, t = mesh_arrays(obj.Base.Mesh)
         return ss.mesh_result(obj.Base.Mesh, *(
-            mesh_sweep.sweep_mesh(v, t, origin, normal, motion, obj.Samples) if gap is None
-            else mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples)))
+            mesh_sweep.sweep_mesh(v, t, origin, normal, motion, obj.Samples, mesh_eps(v))
+            if gap is None else
+            mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples, mesh_eps(v))))
 
 
 def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=None, samples=16):

@@ -166,7 +166,7 @@ def lofted_join(near, cut, profiles, far, far_plane, end, joints, prop):
 def keyed(obj, kind, origin, normal, gap, motion):
     """Result and outputs of a Case 1 deformation by a key motion, for every kind of Base."""
     from ..geometry import mesh_sweep, points_sweep
-    from ..shapes.convert import mesh_arrays, points_from_array
+    from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
     if gap is not None:
         raise DeformError("KeyPlacements move the part beyond one Plane; clear KeyPlacements "
                           "or UsePlane2.", "KeyPlacements")
@@ -176,8 +176,9 @@ def keyed(obj, kind, origin, normal, gap, motion):
         pts, ignored = cloud(obj.Base)
         return points_from_array(points_sweep.sweep_points(pts, origin, normal, motion)), ignored
     if kind == "Mesh":
+        v, t = mesh_arrays(obj.Base.Mesh)
         return mesh_result(obj.Base.Mesh, *mesh_sweep.sweep_mesh(
-            *mesh_arrays(obj.Base.Mesh), origin, normal, motion, obj.Samples))
+            v, t, origin, normal, motion, obj.Samples, mesh_eps(v)))
     shape, end = obj.Base.Shape, motion.matrix(1.0)
 
     def loose_fn(parts):

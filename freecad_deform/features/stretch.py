@@ -6,7 +6,7 @@ from ..geometry.errors import DeformError
 from ..geometry.points_stretch import stretch_points
 from ..geometry.polyline import FoldedSurface
 from ..shapes import brep
-from ..shapes.convert import mesh_arrays, points_from_array
+from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature, Prop
 
@@ -40,8 +40,9 @@ class Stretch(DeformFeature):
                 ignored
         if kind == "Mesh":
             from ..geometry.mesh_stretch import stretch_mesh
+            v, t = mesh_arrays(obj.Base.Mesh)
             return ss.mesh_result(obj.Base.Mesh, *stretch_mesh(
-                *mesh_arrays(obj.Base.Mesh), origin, normal, distance, *second))
+                v, t, origin, normal, distance, *second, eps=mesh_eps(v)))
         shape = obj.Base.Shape
         result = stretch_shape(shape, origin, normal, distance, gap)
         joints = [(origin, normal, ss.constant(normal))]

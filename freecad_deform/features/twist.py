@@ -6,7 +6,7 @@ from ..geometry import motion as mo
 from ..geometry.bend import twist_tangents
 from ..geometry.errors import DeformError
 from ..shapes import brep
-from ..shapes.convert import mesh_arrays, plane_arrays, points_from_array
+from ..shapes.convert import mesh_arrays, mesh_eps, plane_arrays, points_from_array
 from . import split_sweep as ss
 from .base import DeformFeature, Prop
 
@@ -58,7 +58,7 @@ class Twist(DeformFeature):
             section_centroid_mesh(obj.Base.Mesh, origin, normal), normal)
         of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
         return ss.mesh_result(obj.Base.Mesh, *mesh_sweep.map_between(
-            v, t, origin, normal, gap, of_s, obj.Samples))
+            v, t, origin, normal, gap, of_s, obj.Samples, mesh_eps(v)))
 
 
 def section_centroid(solids, origin, normal):

@@ -85,6 +85,7 @@ def _cut(V, T, o, n, eps):
     t = s[lo] / (s[lo] - s[hi])
     P = V[lo] + t[:, None] * (V[hi] - V[lo])
     P -= ((P - o) @ n)[:, None] * n
+    P, inv = _merge_close(P, inv, eps)
     W = np.concatenate([V, P])
     new = np.full(Ts.shape, -1, dtype=np.int64)
     new[cs] = N + inv
@@ -104,7 +105,30 @@ def _cut(V, T, o, n, eps):
     T = np.concatenate([T[~split], np.stack([a2, p, q], 1), quad1, quad2,
                         np.stack([a[one], b[one], pbc[one]], 1),
                         np.stack([a[one], pbc[one], c[one]], 1)])
-    return W, T, np.concatenate([s, np.zeros(len(P))])
+    flat = (T[:, 0] == T[:, 1]) | (T[:, 1] == T[:, 2]) | (T[:, 2] == T[:, 0])
+    return W, T[~flat], np.concatenate([s, np.zeros(len(P))])
+
+
+def _merge_close(P, inv, eps):
+    """New points closer than eps to each other become one (the first of each cluster).
+
+    A sliver triangle crossing the plane near its sharp tip puts its two cut points
+    almost together; stored apart they would make a needle facet (and in float32 one
+    point). Merged, the two facets on that tiny edge vanish (an edge collapse on the
+    plane) and the mesh stays a closed 2-manifold."""
+    if len(P) < 2:
+        return P, inv
+    pairs = cKDTree(P).query_pairs(eps, output_type="ndarray")
+    if not len(pairs):
+        return P, inv
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (len(P), len(P)))
+    _, label = connected_components(graph, directed=False)
+    first = np.full(label.max() + 1, len(P))
+    np.minimum.at(first, label, np.arange(len(P)))
+    keep, cluster = np.unique(first[label], return_inverse=True)
+    return P[keep], cluster.reshape(-1)[inv]
 
 
 def _seam(part, other, on):

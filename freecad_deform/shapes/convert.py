@@ -48,6 +48,15 @@ def mesh_arrays(mesh):
     return flat.reshape(-1, 3), np.array(facets, dtype=np.int64).reshape(-1, 3)
 
 
+def mesh_eps(vertices):
+    """The mesh kernels' snapping distance for a mesh FreeCAD will store: four float32
+    steps of its largest coordinate (at least 1e-9). Points a cut makes closer than one
+    float32 step to a vertex would be merged with it when stored, leaving a degenerate,
+    non-manifold facet; within this distance the vertex is snapped onto the plane instead."""
+    top = float(np.abs(vertices).max()) if len(vertices) else 0.0
+    return max(1e-9, 4 * float(np.finfo(np.float32).eps) * top)
+
+
 def mesh_from_arrays(vertices, triangles):
     """A Mesh.Mesh from vertex and triangle arrays.
 

@@ -21,12 +21,86 @@ def volume(V, T):
 
 def assert_closed_manifold(V, T, min_area=1e-14):
     """Every directed edge once and its reverse present; every vertex used; no zero area."""
-    e = set()
-    for tri in T.tolist():
-        for a, b in zip(tri, tri[1:] + tri[:1]):
-            assert (a, b) not in e, f"directed edge {a}->{b} used twice"
-            e.add((a, b))
-    assert all((b, a) in e for a, b in e), "open edge"
-    assert set(np.unique(T)) == set(range(len(V))), "unused or missing vertex"
+    T = np.asarray(T, np.int64)
+    a, b = T.ravel(), np.roll(T, -1, axis=1).ravel()
+    key = a * len(V) + b
+    uniq, counts = np.unique(key, return_counts=True)
+    assert counts.max() == 1, f"directed edge {uniq[counts > 1][0] // len(V)}->" \
+        f"{uniq[counts > 1][0] % len(V)} used twice"
+    assert np.isin(b * len(V) + a, uniq).all(), "open edge"
+    assert np.array_equal(np.unique(T), np.arange(len(V))), "unused or missing vertex"
+    V = np.asarray(V, float)
     area = np.linalg.norm(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]), axis=1)
     assert area.min() > min_area
+
+
+def mesh_section(V, T, origin, normal, segments=False):
+    """(area, centroid[, (p, q) segment ends]) of the cross-section of a closed, outward-oriented triangle mesh by
+    a plane: each crossing triangle gives one segment, oriented along normal x (triangle
+    normal) so the outline runs counter-clockwise about `normal` (holes clockwise); then
+    the shoelace sums. A vertex on the plane counts as on its positive side."""
+    V, T = np.asarray(V, float), np.asarray(T)
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    u = np.cross([0, 0, 1], n) if abs(n[2]) < 0.9 else np.cross([1, 0, 0], n)
+    u /= np.linalg.norm(u)
+    w = np.cross(n, u)
+    s = (V - origin) @ n
+    pos = (s >= 0)[T]
+    cross = pos.any(axis=1) & ~pos.all(axis=1)
+    tri, sp = V[T[cross]], s[T[cross]]
+    pts = []
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        sa, sb = sp[:, a], sp[:, b]
+        cut = (sa >= 0) != (sb >= 0)
+        t = np.where(cut, sa / np.where(cut, sa - sb, 1.0), 0.0)
+        pts.append((cut, tri[:, a] + t[:, None] * (tri[:, b] - tri[:, a])))
+    ends = np.stack([p for c, p in pts], 1)[np.stack([c for c, p in pts], 1)].reshape(-1, 2, 3)
+    p, q = ends[:, 0], ends[:, 1]
+    tn = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    flip = np.einsum("ij,ij->i", q - p, np.cross(n, tn)) < 0
+    p, q = np.where(flip[:, None], q, p), np.where(flip[:, None], p, q)
+    x0, y0 = (p - origin) @ u, (p - origin) @ w
+    x1, y1 = (q - origin) @ u, (q - origin) @ w
+    c = x0 * y1 - x1 * y0
+    area = c.sum() / 2
+    if area == 0:
+        return (0.0, None, (p, q)) if segments else (0.0, None)
+    mx, my = ((x0 + x1) * c).sum() / 6 / area, ((y0 + y1) * c).sum() / 6 / area
+    centroid = np.asarray(origin, float) + mx * u + my * w
+    return (float(area), centroid, (p, q)) if segments else (float(area), centroid)
+
+
+def plane_fit(points):
+    """(unit normal, offset, rms) of the least-squares plane n . x = offset (SVD)."""
+    p = np.asarray(points, float)
+    c = p.mean(axis=0)
+    _, s, vt = np.linalg.svd(p - c, full_matrices=False)
+    n = vt[-1]
+    return n, float(n @ c), float(s[-1] / np.sqrt(len(p)))
+
+
+def cylinder_fit(points, axis_guess):
+    """(point on axis, unit axis, radius, rms) of the least-squares cylinder, by
+    scipy.optimize from the axis guess and the circle fit of the points projected on it."""
+    from scipy.optimize import least_squares
+    p = np.asarray(points, float)
+    a0 = np.asarray(axis_guess, float) / np.linalg.norm(axis_guess)
+    u = np.cross(a0, [1, 0, 0] if abs(a0[0]) < 0.9 else [0, 1, 0])
+    u /= np.linalg.norm(u)
+    w = np.cross(a0, u)
+    x, y = p @ u, p @ w
+    # algebraic circle fit (Kasa) as the start
+    A = np.column_stack([x, y, np.ones_like(x)])
+    cx, cy, k = np.linalg.lstsq(A, x * x + y * y, rcond=None)[0]
+    cx, cy = cx / 2, cy / 2
+    r0 = np.sqrt(k + cx * cx + cy * cy)
+    c0 = cx * u + cy * w + (p @ a0).mean() * a0
+
+    def residual(q):
+        c, a = q[:3], q[3:6] / np.linalg.norm(q[3:6])
+        d = p - c
+        return np.linalg.norm(d - np.outer(d @ a, a), axis=1) - q[6]
+
+    sol = least_squares(residual, np.r_[c0, a0, r0], xtol=1e-14, ftol=1e-14)
+    a = sol.x[3:6] / np.linalg.norm(sol.x[3:6])
+    return sol.x[:3], a, abs(sol.x[6]), float(np.sqrt(np.mean(sol.fun ** 2)))

@@ -1,0 +1,166 @@
+"""Oracles of the real-parts matrix, independent of the code under test: OCCT (slice, face
+maker, Volume, isValid, CenterOfMass), closed forms (A*d, Pappus) and fits written in
+tests/geometry/mesh_oracles.py. Each returns numbers; cases.py compares them."""
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..features import fc
+from ..features.test_stretch import closed_manifold, mesh_section_area, section_area  # noqa: F401
+
+import FreeCAD as App  # noqa: E402
+import Part  # noqa: E402
+
+V = App.Vector
+
+
+def rotation(point, direction, degrees):
+    """4x4 rotation by `degrees` about the line (point, direction), written here with
+    FreeCAD's Rotation (not the code's motion module)."""
+    r = App.Rotation(V(*direction), float(degrees))
+    m = np.eye(4)
+    m[:3, :3] = np.array(r.toMatrix().A).reshape(4, 4)[:3, :3]
+    m[:3, 3] = np.asarray(point, float) - m[:3, :3] @ np.asarray(point, float)
+    return m
+
+
+def translation(vec):
+    m = np.eye(4)
+    m[:3, 3] = vec
+    return m
+
+
+def apply(m, pts):
+    return np.asarray(pts, float) @ m[:3, :3].T + m[:3, 3]
+
+
+def solids_compound(shape):
+    return Part.makeCompound(shape.Solids)
+
+
+def section(shape, origin, normal):
+    """(area, centroid, bounded by B-spline edges) of the solids' section in the plane,
+    solid by solid (an assembly's solids may overlap): Shape.slice and a face maker."""
+    n = V(*normal).normalize()
+    area, moment, spline = 0.0, np.zeros(3), False
+    for solid in shape.Solids:
+        wires = solid.slice(n, n.dot(V(*origin)))
+        if not wires:
+            continue
+        for face in Part.makeFace(wires, "Part::FaceMakerBullseye").Faces:
+            area += face.Area
+            moment += np.array(tuple(face.CenterOfMass)) * face.Area
+            spline = spline or any(type(e.Curve).__name__ in ("BSplineCurve", "BezierCurve")
+                                   for e in face.Edges if not e.Degenerated)
+    return area, (moment / area if area else None), spline
+
+
+def split_noise(shape, planes):
+    """OCCT's volume precision on this edit: |sum of the volumes of the pieces that
+    generalFuse cuts at the planes - the volume of each solid|, summed (the split moves
+    nothing, so all of it is integration error). Also the OCCT floor: the split and a
+    fuse of the pieces again."""
+    size = 2 * shape.BoundBox.DiagonalLength
+    tools = [big_square(o, n, size) for o, n in planes]
+    noise = 0.0
+    for solid in shape.Solids:
+        pieces = solid.generalFuse(tools)[0].Solids
+        noise += abs(sum(p.Volume for p in pieces) - solid.Volume)
+        if len(pieces) > 1:
+            pieces[0].fuse(pieces[1:])
+    return noise
+
+
+def distance_to_axis(point, axis_point, axis_direction):
+    a = np.asarray(axis_direction, float) / np.linalg.norm(axis_direction)
+    d = np.asarray(point, float) - axis_point
+    return float(np.linalg.norm(d - (d @ a) * a))
+
+
+def shells_per_solid(shape):
+    return sorted(len(s.Shells) for s in shape.Solids)
+
+
+def loose_vertices(shape):
+    """Points of the vertices of every top-level part outside the solids."""
+    def loose(s):
+        if s.ShapeType in ("Solid", "CompSolid"):
+            return []
+        if s.ShapeType == "Compound":
+            return [p for c in s.childShapes() for p in loose(c)]
+        return [s]
+    pts = [tuple(v.Point) for p in loose(shape) for v in p.Vertexes]
+    return np.array(pts, float).reshape(-1, 3)
+
+
+def followed(before, after, origin, normal, motion, gap=0.0, tol=1e-6):
+    """Worst distance from where each loose vertex away from the edit must be (kept before
+    the plane, moved by `motion` beyond `gap`) to the result's loose vertices."""
+    if not len(before):
+        return 0.0
+    s = (before - origin) @ normal
+    expected = np.vstack([before[s < -tol], apply(motion, before[s > gap + tol])])
+    if not len(expected):
+        return 0.0
+    if not len(after):
+        return np.inf
+    return float(cKDTree(after).query(expected)[0].max())
+
+
+def away_parts(shape, origin, normal, gap, margin):
+    """(kind, area, centre) of the faces and void shells wholly before the plane (-1) or
+    wholly beyond `gap` (+1), by more than `margin`; with the side."""
+    out = []
+    for solid in shape.Solids:
+        items = list(solid.Faces) + [sh for sh in solid.Shells[1:]] if len(solid.Shells) > 1 \
+            else list(solid.Faces)
+        for item in items:
+            bb = item.BoundBox
+            c = np.array([[x, y, z] for x in (bb.XMin, bb.XMax) for y in (bb.YMin, bb.YMax)
+                          for z in (bb.ZMin, bb.ZMax)])
+            s = (c - origin) @ normal
+            side = -1 if s.max() < -margin else 1 if s.min() > gap + margin else 0
+            if side:
+                kind = "Shell" if item.ShapeType == "Shell" else type(item.Surface).__name__
+                out.append((side, kind, item.Area, np.array(tuple(item.CenterOfMass))))
+    return out
+
+
+def unchanged_parts(before, result, motion, tol_pos, tol_area=1e-9):
+    """(missing count, worst relative area error) of the faces and void shells away from the
+    edit: each must be in the result with the same type and area, where `motion` puts it."""
+    faces = [(type(f.Surface).__name__, f.Area, np.array(tuple(f.CenterOfMass)))
+             for f in result.Faces]
+    shells = [("Shell", sh.Area, np.array(tuple(sh.CenterOfMass)))
+              for s in result.Solids for sh in s.Shells[1:]]
+    cands = faces + shells
+    tree = cKDTree(np.array([c for _, _, c in cands]))
+    missing, worst = 0, 0.0
+    for side, kind, area, centre in before:
+        want = centre if side < 0 else apply(motion, centre[None])[0]
+        best = None
+        for i in tree.query_ball_point(want, tol_pos):
+            k, a, _ = cands[i]
+            if k == kind:
+                err = abs(a - area) / area
+                best = err if best is None else min(best, err)
+        if best is None or best > tol_area:
+            missing += 1
+        else:
+            worst = max(worst, best)
+    return missing, worst
+
+
+def big_square(origin, normal, size):
+    """A square planar face at the plane, `size` across (the OCCT floor's splitting tool)."""
+    n = np.asarray(normal, float)
+    u = np.cross(n, [0, 0, 1] if abs(n[2]) < 0.9 else [1, 0, 0])
+    u /= np.linalg.norm(u)
+    w = np.cross(n, u)
+    c = [origin + size * (a * u + b * w) for a, b in ((1, 1), (-1, 1), (-1, -1), (1, -1), (1, 1))]
+    return Part.Face(Part.makePolygon([V(*p) for p in c]))
+
+
+def load_shape(name):
+    shape = Part.Shape()
+    shape.read(fc.testdata(name))
+    return shape
