@@ -80,7 +80,7 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
         middle = brep.revolved(cut, axis_point, axis_direction, angle)
         moved = brep.transformed(far, far_motion)
         brep.check_apart(near, moved, "Angle")
-        return brep.join(near + middle + moved, [(origin, normal), far_joint], "Angle")
+        return brep.join(near + middle + moved, [(origin, normal), far_joint])
 
     def turn_to(frac):
         return mo.rotation(axis_point, axis_direction, frac * angle) @ mo.translation(

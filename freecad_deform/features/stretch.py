@@ -82,14 +82,15 @@ def stretch_folded(shape, surface, distance):
                                       surface.offset, [0.0])
             cut = brep.faces_on_surface(near, surface)
             pieces = near + brep.extruded(cut, move) + brep.translated(far, move)
-            return brep.join(pieces, joints)
+            return brep.join(pieces, joints, "Polyline")
         near, slab, far = brep.split_by(
             solid, [brep.folded_sheet(solid, surface), brep.folded_sheet(solid, surface, -distance)],
             surface.offset, [0.0, -distance])
         if near and slab and not far:
             raise DeformError(f"Distance {distance:g} shrinks past the end of the part; reduce "
                               f"Distance.", "Distance")
-        return brep.join(near + brep.translated(far, move), joints) if near or far else None
+        return brep.join(near + brep.translated(far, move), joints,
+                         "Polyline") if near or far else None
 
     def loose_fn(parts):
         return [p.translated(brep.vector(move)) if surface.offset(

@@ -33,7 +33,7 @@ def oriented(solid):
         return solid.copy()
     if len(volumes) == 1:
         return solid.reversed().copy()
-    return solid_of_shells([sh.copy() for sh in solid.Shells])
+    return solid_of_shells([sh.copy() for sh in solid.Shells]) or solid.copy()
 
 
 _VOLUMES = []  # (shape, signed shell volumes) of recent Base solids, newest last
@@ -54,11 +54,17 @@ def shell_volumes(solid):
 
 def solid_of_shells(shells):
     """One solid from closed shells: the largest bounds it, the others are its voids, each
-    turned the way that makes it so."""
+    turned the way that makes it so; None when a smaller shell lies outside the largest
+    (two bodies, not a body with voids)."""
+    if len(shells) == 1:
+        return Part.Solid(shells[0])  # Part.Solid orients a lone shell outward
     shells = sorted(shells, key=lambda sh: -abs(sh.Volume))
     turned = [sh if (sh.Volume > 0) == (k == 0) else sh.reversed()
               for k, sh in enumerate(shells)]
-    return Part.makeSolid(Part.makeCompound(turned)) if len(turned) > 1 else Part.Solid(turned[0])
+    body = Part.Solid(turned[0])
+    if not all(body.isInside(sh.Vertexes[0].Point, TOL, False) for sh in turned[1:]):
+        return None
+    return Part.makeSolid(Part.makeCompound(turned))
 
 
 def solids_volume(shape):
@@ -265,45 +271,100 @@ def on_planes(planes):
     return lambda pts: any(np.all(np.abs((pts - o) @ n) < TOL) for o, n in planes)
 
 
-def join(solids, joints, prop="Distance"):
-    """Fuse the pieces into one valid solid, merging faces only across the joints.
+def join(solids, joints, prop="Plane"):
+    """One valid solid from the pieces, merging faces only across the joints.
 
     `joints` are (origin, normal) planes, or a test `joints(points) -> bool` saying whether
-    points lie on a joint surface. Faces the split cut there are merged again (no seams),
-    while every edge and vertex elsewhere, including the Base's own, is kept.
+    points lie on a joint surface. The pieces meet on faces that coincide by construction,
+    so their other faces are sewn with those left out (no boolean); a boolean fuse is the
+    fallback when that does not give a valid solid. Faces the split cut at the joints are
+    merged again (no seams), while every edge and vertex elsewhere, including the Base's
+    own, is kept. `prop` is the input a failure is blamed on.
     """
+    on_surface = joints if callable(joints) else on_planes(joints)
+    if len(solids) > 1:
+        sewn = _sewn(_unshared_faces(solids, on_surface))
+        if sewn is not None:
+            solid, _ = _merged(sewn, on_surface)
+            if solid is not None:
+                return solid
     fused = solids[0] if len(solids) == 1 else solids[0].fuse(solids[1:])
-    return _merged(fused, joints, prop)
+    solid, failure = _merged(fused, on_surface)
+    if solid is None:
+        raise DeformError(f"OCCT could not join the pieces into one valid solid ({failure}); "
+                          f"move {prop} a little, off the Base's edges and vertices.", prop)
+    return solid
+
+
+def _unshared_faces(solids, on_surface):
+    """The faces of the pieces but those on a joint that another piece also has there
+    (same centre of mass and area, to 1e-9 of the pieces' size)."""
+    size = max(s.BoundBox.DiagonalLength for s in solids)
+
+    def key(face):
+        c = face.CenterOfMass
+        return np.array([c.x / size, c.y / size, c.z / size, face.Area / size ** 2])
+
+    keys = [[key(f) if on_surface(np.array([tuple(v.Point) for v in f.Vertexes])) else None
+             for f in s.Faces] for s in solids]
+    faces = []
+    for i, s in enumerate(solids):
+        others = [k for j, ks in enumerate(keys) if j != i for k in ks if k is not None]
+        faces += [f for f, k in zip(s.Faces, keys[i])
+                  if k is None or not any(np.allclose(k, o, rtol=0, atol=1e-9) for o in others)]
+    return faces
+
+
+def _sewn(faces):
+    """The solid the faces close when sewn, or None when they do not close one."""
+    sewn = Part.makeCompound(faces)
+    try:
+        sewn.sewShape()
+    except Part.OCCError:  # OCCT's sewing fails on some degenerate B-spline faces
+        return None
+    shells = sewn.Shells
+    if not shells or not all(sh.isClosed() for sh in shells) or sum(
+            len(sh.Faces) for sh in shells) != len(sewn.Faces):
+        return None
+    return solid_of_shells(shells)
 
 
 def join_faces(faces, joints, prop):
     """Sew faces that close a solid (no boolean): for swept lofts, whose end profiles are
     the cut faces themselves, where OCCT's fuse of B-spline lofts is slow or drops pieces."""
-    sewn = Part.makeCompound(faces)
-    sewn.sewShape()
-    shells = sewn.Shells
-    if not shells or not all(sh.isClosed() for sh in shells) or sum(len(sh.Faces) for sh in shells) != len(sewn.Faces):
+    sewn = _sewn(faces)
+    if sewn is None:
         raise DeformError(f"The swept faces do not close a solid; change {prop}.", prop)
-    return _merged(solid_of_shells(shells), joints, prop)
+    solid, failure = _merged(sewn, joints if callable(joints) else on_planes(joints))
+    if solid is None:
+        raise DeformError(f"The swept faces do not make one valid solid ({failure}); change "
+                          f"{prop}.", prop)
+    return solid
 
 
-def _merged(fused, joints, prop):
+def _merged(fused, on_surface):
+    """(the solid with the split faces merged across the joints, None) or (None, what
+    failed)."""
     from Part import ShapeUpgrade
-    on_surface = joints if callable(joints) else on_planes(joints)
 
     def on_joint(sub):
         return on_surface(np.array([tuple(v.Point) for v in sub.Vertexes]))
 
+    if len(fused.Solids) != 1:
+        return None, f"they make {len(fused.Solids)} solids"
     unify = ShapeUpgrade.UnifySameDomain(fused, True, True, False)
     unify.keepShapes([e for e in fused.Edges if not on_joint(e)]
                      + [v for v in fused.Vertexes if not on_joint(v)])
     unify.build()
     # OCCT's face merge can nest wires wrongly on folded joints; then merge all, or none
-    for result in (lambda: unify.shape(), fused.removeSplitter, lambda: fused):
-        shape = result()
+    for result in (unify.shape, fused.removeSplitter, lambda: fused):
+        try:
+            shape = result()
+        except Part.OCCError:  # removeSplitter raises where it cannot merge
+            continue
         if len(shape.Solids) == 1 and _valid_at_joints(shape, on_surface):
-            return shape.Solids[0]
-    raise DeformError(f"The pieces did not join into one valid solid; change {prop}.", prop)
+            return shape.Solids[0], None
+    return None, "the faces at a joint fail OCCT's check"
 
 
 def _valid_at_joints(shape, on_surface, many_wires=8):
