@@ -1,0 +1,141 @@
+"""Least-squares B-spline fits at GIVEN parameters, refined until a tolerance holds.
+
+A mapped face keeps its own (u, v) parametrisation: the fit S'(u, v) ~ M(S(u, v)) is made
+on a grid of the face's parameters, so the pcurves of its edges stay valid on the fitted
+surface. The least squares are separable (tensor-product design matrices from scipy's
+BSpline), the deviation is measured at the points midway between the fitting samples
+(never used in the fit), and every knot span whose deviation exceeds the tolerance is cut
+in two until none does. Values are arrays of any dimension d (3D points, 2D pcurves).
+"""
+from typing import NamedTuple
+
+import numpy as np
+from scipy.interpolate import BSpline
+
+SAMPLES_PER_SPAN = 3     # fitting samples per knot span; the deviation is checked between
+
+
+class CurveFit(NamedTuple):
+    knots: np.ndarray       # full knot vector (degree + 1 fold ends)
+    poles: np.ndarray       # (n, d)
+    degree: int
+    deviation: float        # largest distance at the check points
+
+
+class SurfaceFit(NamedTuple):
+    uknots: np.ndarray
+    vknots: np.ndarray
+    poles: np.ndarray       # (nu, nv, d)
+    degree: int
+    deviation: float
+
+
+def knot_vector(breaks, degree):
+    """Clamped knot vector with the given breakpoints (ascending, ends included)."""
+    b = np.asarray(breaks, float)
+    return np.concatenate([[b[0]] * degree, b, [b[-1]] * degree])
+
+
+def samples(breaks, per_span=SAMPLES_PER_SPAN):
+    """(fitting parameters, check parameters midway between them) over the breakpoints."""
+    b = np.asarray(breaks, float)
+    f = np.arange(per_span) / per_span
+    fit = np.concatenate([(b[:-1, None] + f * np.diff(b)[:, None]).ravel(), b[-1:]])
+    return fit, 0.5 * (fit[:-1] + fit[1:])
+
+
+def design(params, knots, degree):
+    """Dense B-spline collocation matrix (len(params), len(knots) - degree - 1)."""
+    x = np.clip(np.asarray(params, float), knots[degree], knots[-degree - 1])
+    return BSpline.design_matrix(x, knots, degree).toarray()
+
+
+def _solve(B, X):
+    """Least squares B P = X along the first axis of X."""
+    flat = X.reshape(X.shape[0], -1)
+    return np.linalg.lstsq(B, flat, rcond=None)[0].reshape((B.shape[1],) + X.shape[1:])
+
+
+def _span_of(params, breaks):
+    return np.clip(np.searchsorted(breaks, params, side="right") - 1, 0, len(breaks) - 2)
+
+
+def _refined(breaks, bad):
+    """Breakpoints with every span flagged in `bad` cut at its middle."""
+    mids = 0.5 * (breaks[:-1] + breaks[1:])[bad]
+    return np.sort(np.concatenate([breaks, mids]))
+
+
+def fit_curve(fn, t0, t1, tol, degree=3, spans=4, max_spans=1024):
+    """Fit fn: params (m,) -> values (m, d) on [t0, t1] to `tol`, refining spans."""
+    breaks = np.linspace(t0, t1, spans + 1)
+    while True:
+        fit_t, check_t = samples(breaks)
+        knots = knot_vector(breaks, degree)
+        poles = _solve(design(fit_t, knots, degree), np.asarray(fn(fit_t), float))
+        err = np.linalg.norm(design(check_t, knots, degree) @ poles - fn(check_t), axis=-1)
+        bad = np.zeros(len(breaks) - 1, bool)
+        bad[_span_of(check_t, breaks)[err > tol]] = True
+        if not bad.any() or len(breaks) - 1 + bad.sum() > max_spans:
+            return CurveFit(knots, poles, degree, float(err.max(initial=0.0)))
+        breaks = _refined(breaks, bad)
+
+
+def fit_surface(fn, u_range, v_range, tol, degree=3, spans=(4, 4), max_spans=256,
+                breaks=None):
+    """Fit fn: (U (mu,), V (mv,)) -> values (mu, mv, d) on the grid U x V over the
+    parameter rectangle to `tol`. fn is called once per round, on the fitting samples
+    interleaved with the check points midway between them; the fit uses the samples only.
+    Spans are cut in u where the deviation at (mid-u, sample-v) points exceeds tol, in v
+    likewise, both where only a mid-cell point does. Returns the fit with the largest
+    deviation found (above tol only when max_spans stopped the refinement). `breaks`:
+    the initial breakpoints (u, v) instead of `spans` uniform spans."""
+    ub, vb = (np.linspace(*u_range, spans[0] + 1), np.linspace(*v_range, spans[1] + 1)) \
+        if breaks is None else (np.asarray(breaks[0], float), np.asarray(breaks[1], float))
+    while True:
+        fu, cu = samples(ub)
+        fv, cv = samples(vb)
+        uk, vk = knot_vector(ub, degree), knot_vector(vb, degree)
+        G = np.asarray(fn(_interleaved(fu, cu), _interleaved(fv, cv)), float)
+        P = np.swapaxes(_solve(design(fv, vk, degree), np.swapaxes(
+            _solve(design(fu, uk, degree), G[::2, ::2]), 0, 1)), 0, 1)
+        du, dv = design(_interleaved(fu, cu), uk, degree), design(_interleaved(fv, cv), vk,
+                                                                    degree)
+        err = np.linalg.norm(_grid(du, P, dv) - G, axis=-1)
+        deviation = float(np.max(err[1::2, :], initial=0.0))
+        deviation = max(deviation, float(np.max(err[:, 1::2], initial=0.0)))
+        if deviation <= tol:
+            return SurfaceFit(uk, vk, P, degree, deviation)
+        bad_u = np.zeros(len(ub) - 1, bool)
+        bad_v = np.zeros(len(vb) - 1, bool)
+        bad_u[_span_of(cu, ub)[(err[1::2, ::2] > tol).any(axis=1)]] = True
+        bad_v[_span_of(cv, vb)[(err[::2, 1::2] > tol).any(axis=0)]] = True
+        cell = err[1::2, 1::2] > tol
+        bad_u[_span_of(cu, ub)[cell.any(axis=1)]] |= not bad_u.any()
+        bad_v[_span_of(cv, vb)[cell.any(axis=0)]] |= not bad_v.any()
+        if len(ub) - 1 + bad_u.sum() > max_spans or len(vb) - 1 + bad_v.sum() > max_spans:
+            return SurfaceFit(uk, vk, P, degree, deviation)
+        ub, vb = _refined(ub, bad_u), _refined(vb, bad_v)
+
+
+def _grid(du, P, dv):
+    """sum_ab du[i, a] P[a, b] dv[j, b]: (i, j, d), as two matrix products."""
+    return np.einsum("ia,ajd->ijd", du, np.einsum("abd,jb->ajd", P, dv, optimize=True),
+                     optimize=True)
+
+
+def _interleaved(fit, check):
+    """fit[0], check[0], fit[1], ..., fit[-1]."""
+    out = np.empty(len(fit) + len(check))
+    out[::2], out[1::2] = fit, check
+    return out
+
+
+def evaluate_surface(fit, u, v):
+    """The fitted surface on the grid u x v: (len(u), len(v), d)."""
+    return _grid(design(u, fit.uknots, fit.degree), fit.poles,
+                 design(v, fit.vknots, fit.degree))
+
+
+def evaluate_curve(fit, t):
+    return design(t, fit.knots, fit.degree) @ fit.poles

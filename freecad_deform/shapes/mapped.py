@@ -1,0 +1,330 @@
+"""A space map (geometry.space_map) applied to the B-rep of a region between two planes.
+
+The solid is split at both planes (as every split-sweep-join feature does). The near part
+stays, the far part moves by the map's end transform, and every face of the region goes
+through the map:
+- a face at one position s (a plane parallel to the planes) moves by A(s): exact;
+- under a twist, a face on a surface of revolution about the twist axis stays on its very
+  surface; only its pcurves change, u -> u + angle(s) (fitted in 2D to the tolerance);
+- under an affine map (a Linear stretch) a plane stays a Part.Plane through its mapped
+  edges;
+- every other face: a B-spline fitted to the mapped points in the face's own (u, v)
+  parametrisation (geometry.surface_fit), the face rebuilt from its own pcurves.
+The faces are sewn (with the cut faces left out) into one solid, voids kept. The largest
+deviation from the exact map is measured at points the fits did not use.
+"""
+import numpy as np
+import Part
+
+from ..geometry import continuity, surface_fit
+from ..geometry.errors import DeformError
+from . import brep
+from .convert import vector
+
+REVOLUTION = ("Part::GeomCylinder", "Part::GeomCone", "Part::GeomSphere", "Part::GeomToroid",
+              "Part::GeomSurfaceOfRevolution")
+
+
+def map_shape(shape, smap, tol, prop="Tolerance"):
+    """(mapped shape, largest deviation) of every solid of `shape`: one solid or a
+    compound; loose wires and vertices go through the map at their vertices' s (rigid
+    pieces before and beyond the region, the others refit)."""
+    solids = brep.solids_of(shape)
+    out, worst = [], 0.0
+    for solid in solids:
+        result, dev = map_solid(solid, smap, tol, prop)
+        out.append(result)
+        worst = max(worst, dev)
+    out += _loose(brep.loose_parts(shape), smap, tol)
+    return (out[0] if len(out) == 1 else Part.makeCompound(out)), worst
+
+
+def map_solid(solid, smap, tol, prop="Tolerance"):
+    """(one solid, largest deviation) for a solid through the map."""
+    o, n, gap = smap.origin, smap.normal, smap.gap
+    near, between, far = brep.split_zones(solid, o, n, [0.0, gap])
+    if not between:  # the solid lies before Plane or beyond Plane2
+        return (near + _moved(far, smap.end))[0], 0.0
+    cut = brep.faces_on_plane(near, o, n)
+    far_cut = brep.faces_on_plane(far, o + gap * n, n)
+    caps = (brep.faces_on_plane(between, o, n)
+            + brep.faces_on_plane(between, o + gap * n, n))
+    worst, mapped = 0.0, []
+    for face in (f for s in between for f in s.Faces if not any(f.isSame(c) for c in caps)):
+        new, dev = map_face(face, smap, tol)
+        mapped.append(new)
+        worst = max(worst, dev)
+    faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)] + mapped
+             + _moved([f for s in far for f in s.Faces
+                       if not any(f.isSame(c) for c in far_cut)], smap.end))
+    end = smap.end
+    joints = [(o, n), (end[:3, :3] @ (o + gap * n) + end[:3, 3],
+                       _unit(np.linalg.inv(end[:3, :3]).T @ n))]
+    return sewn_solid(faces, joints, max(worst, tol), prop), worst
+
+
+def _unit(v):
+    return v / np.linalg.norm(v)
+
+
+def _moved(shapes, matrix):
+    """Shapes moved by the map's end transform: exact for a rigid one, else affine."""
+    m = np.asarray(matrix, float)
+    if np.allclose(m[:3, :3].T @ m[:3, :3], np.eye(3), atol=1e-12):
+        return brep.transformed(shapes, m)
+    import FreeCAD as App
+    return [s.transformGeometry(App.Matrix(*m.ravel())) for s in shapes]
+
+
+def sewn_solid(faces, joints, deviation, prop):
+    """One valid solid from faces that meet within `deviation` (sewn at a few times it;
+    voids kept), its faces merged again across the joint planes."""
+    compound = Part.makeCompound(faces)
+    compound.sewShape(max(4.0 * deviation, 1e-6))
+    shells = compound.Shells
+    if not shells or not all(sh.isClosed() for sh in shells):
+        raise DeformError(f"The mapped faces do not close a solid (gaps above "
+                          f"{4 * deviation:.3g} mm); lower {prop}.", prop)
+    solid = brep.solid_of_shells(shells)
+    if solid is None:
+        raise DeformError("The mapped region falls apart into separate bodies; change "
+                          "Plane2 so the region is one piece.", "Plane2")
+    try:  # the split faces merged again across the joints, on a copy (OCCT edits in place)
+        copy = solid.copy()
+        return brep.join_faces(copy.Faces, joints, prop)
+    except DeformError:
+        pass
+    if not solid.isValid():
+        raise DeformError(f"The mapped faces do not join into one valid solid; lower {prop}.",
+                          prop)
+    return solid
+
+
+# --- faces -------------------------------------------------------------------------------
+
+def map_face(face, smap, tol):
+    """(mapped face, deviation measured between the fit samples)."""
+    pts = _face_points(face)
+    s = (pts - smap.origin) @ smap.normal / smap.gap
+    if np.ptp(s) < 1e-12:  # the whole face at one position: moved by A(s) exactly
+        return _moved([face], smap.matrices([np.clip(s.mean(), 0.0, 1.0)])[0])[0], 0.0
+    if getattr(smap, "twist_axis", None) is not None and \
+            face.Surface.TypeId in REVOLUTION and _coaxial(face.Surface, *smap.twist_axis):
+        built = _turned_on_surface(face, smap, tol)
+        if built is not None:
+            return built
+    return _fitted(face, smap, tol)
+
+
+def _face_points(face, count=5):
+    """Points of the face: its vertices, and a grid of its surface over its parameters."""
+    u0, u1, v0, v1 = face.ParameterRange
+    grid = [tuple(face.Surface.value(u, v)) for u in np.linspace(u0, u1, count)
+            for v in np.linspace(v0, v1, count)]
+    return np.array([tuple(v.Point) for v in face.Vertexes] + grid, float)
+
+
+def surface_grid(surface, U, V):
+    """Points (len(U), len(V), 3) of a Part surface on the grid U x V."""
+    value = surface.value
+    return np.array([[tuple(value(u, v)) for v in V] for u in U], float)
+
+
+def _fitted(face, smap, tol):
+    """The face on a B-spline fitted to its mapped surface in its own parametrisation."""
+    surface = face.Surface
+    u0, u1, v0, v1 = face.ParameterRange
+
+    def mapped(U, V):
+        pts = surface_grid(surface, U, V)
+        return smap(pts.reshape(-1, 3)).reshape(pts.shape)
+
+    ub, vb = _breaks(surface, u0, u1, 0), _breaks(surface, v0, v1, 1)
+    fit = surface_fit.fit_surface(mapped, (u0, u1), (v0, v1), tol, breaks=(ub, vb))
+    new = bspline_surface(fit)
+    built = face_on_pcurves(new, face, lambda e: face.curveOnSurface(e))
+    if built is None:
+        raise DeformError("A mapped face could not be rebuilt on its fitted surface; "
+                          "change Tolerance.", "Tolerance")
+    return built, fit.deviation
+
+
+def _breaks(surface, a, b, direction, most=64):
+    """Initial fit breakpoints: the B-spline's own knots inside [a, b] (so its lower
+    continuity there is kept), else four spans."""
+    if surface.TypeId == "Part::GeomBSplineSurface":
+        knots = np.array(surface.getUKnots() if direction == 0 else surface.getVKnots())
+        inner = knots[(knots > a + 1e-12 * (b - a)) & (knots < b - 1e-12 * (b - a))]
+        if len(inner) < most:
+            return np.concatenate([[a], inner, [b]])
+    return np.linspace(a, b, 5)
+
+
+def bspline_surface(fit):
+    """A Part.BSplineSurface from a SurfaceFit."""
+    import FreeCAD as App
+    uk, um = _knots_mults(fit.uknots)
+    vk, vm = _knots_mults(fit.vknots)
+    poles = [[App.Vector(*p) for p in row] for row in fit.poles.tolist()]
+    s = Part.BSplineSurface()
+    s.buildFromPolesMultsKnots(poles, um, vm, uk, vk, False, False, fit.degree, fit.degree)
+    return s
+
+
+def bspline_curve2d(fit):
+    """A Geom2d B-spline curve from a CurveFit of 2D values."""
+    import FreeCAD as App
+    knots, mults = _knots_mults(fit.knots)
+    c = Part.Geom2d.BSplineCurve2d()
+    c.buildFromPolesMultsKnots([App.Base.Vector2d(*p) for p in fit.poles.tolist()], mults,
+                               knots, False, fit.degree)
+    return c
+
+
+def _knots_mults(full):
+    knots, mults = np.unique(np.asarray(full, float), return_counts=True)
+    return knots.tolist(), [int(m) for m in mults]
+
+
+def face_on_pcurves(surface, face, pcurve):
+    """The face rebuilt on `surface`: every edge made from `pcurve(edge)` -> (Geom2d
+    curve, first, last) on the new surface, wires in the face's order (None when OCCT
+    cannot build a valid face)."""
+    forward = face.reversed() if face.Orientation == "Reversed" else face
+    outer = forward.OuterWire
+    wires = [outer] + [w for w in forward.Wires if not w.isSame(outer)]
+    try:
+        built = []
+        for wire in wires:
+            edges = []
+            for edge in wire.OrderedEdges:
+                c2d, a, b = pcurve(edge)
+                new = c2d.toShape(surface, a, b)
+                if edge.Orientation == "Reversed":
+                    new.reverse()
+                edges.append(new)
+            built.append(Part.Wire(edges))
+        result = Part.Face(surface, built[0])
+        for wire in built[1:]:
+            result = Part.Face(result, wire)
+    except Part.OCCError:
+        return None
+    if face.Orientation == "Reversed":
+        result.reverse()
+    return result if result.isValid() else None
+
+
+# --- twist: surfaces of revolution about the axis ----------------------------------------
+
+def _coaxial(surface, point, direction, tol=1e-9):
+    """The surface's own axis lies on the twist axis (either sense)."""
+    axis = np.array(tuple(surface.Axis if hasattr(surface, "Axis") else surface.Direction))
+    loc = np.array(tuple(surface.Center if hasattr(surface, "Center") and
+                         surface.TypeId != "Part::GeomSurfaceOfRevolution"
+                         else surface.Location))
+    d = np.asarray(direction, float) / np.linalg.norm(direction)
+    axis = axis / np.linalg.norm(axis)
+    off = loc - np.asarray(point, float)
+    return np.linalg.norm(np.cross(axis, d)) < tol and \
+        np.linalg.norm(off - (off @ d) * d) < tol * max(1.0, np.linalg.norm(off))
+
+
+def _turned_on_surface(face, smap, tol):
+    """(face on its own surface with pcurves turned by u -> u +- angle(s), deviation), or
+    None when OCCT cannot build it. The deviation bound is the 2D fit's, times the
+    surface's largest speed |dS/du|, |dS/dv| over the face."""
+    surface = face.Surface
+    point, direction = smap.twist_axis
+    axis = np.array(tuple(surface.Axis if hasattr(surface, "Axis") else surface.Direction))
+    sign = 1.0 if axis @ np.asarray(direction, float) > 0 else -1.0
+    u0, u1, v0, v1 = face.ParameterRange
+    grid = surface_grid(surface, np.linspace(u0, u1, 9), np.linspace(v0, v1, 9))
+    speed = max(np.linalg.norm(np.diff(grid, axis=0), axis=-1).max() * 8 / max(u1 - u0, 1e-300),
+                np.linalg.norm(np.diff(grid, axis=1), axis=-1).max() * 8 / max(v1 - v0, 1e-300),
+                1e-300)
+    worst = [0.0]
+    value = surface.value
+
+    def pcurve(edge):
+        c2d, a, b = face.curveOnSurface(edge)
+
+        def turned(T):
+            uv = np.array([(p.x, p.y) for p in map(c2d.value, T)], float)
+            pts = np.array([tuple(value(u, v)) for u, v in uv], float)
+            return uv + np.outer(sign * smap.angle_of(smap.s(pts)), [1.0, 0.0])
+
+        fit = surface_fit.fit_curve(turned, a, b, tol / (2 * speed))
+        worst[0] = max(worst[0], fit.deviation * speed * 2)
+        return bspline_curve2d(fit), a, b
+
+    built = face_on_pcurves(surface, face, pcurve)
+    return None if built is None else (built, worst[0])
+
+
+# --- loose wireframes --------------------------------------------------------------------
+
+def _loose(parts, smap, tol):
+    """Loose edges and vertices: those at one s moved exactly, the others refit."""
+    out = []
+    for part in parts:
+        pts = np.array([tuple(v.Point) for v in part.Vertexes], float)
+        s = smap.s(pts) if len(pts) else np.zeros(1)
+        if np.ptp(s) < 1e-12 and (s[0] <= 0 or s[0] >= 1 or part.ShapeType == "Vertex"):
+            out += _moved([part], smap.matrices([s[0]])[0])
+            continue
+        edges = []
+        for edge in part.Edges:
+            fit = surface_fit.fit_curve(
+                lambda T, e=edge: smap(np.array([tuple(e.valueAt(t)) for t in T])),
+                edge.FirstParameter, edge.LastParameter, tol)
+            edges.append(_curve3d(fit).toShape())
+        out.append(Part.Wire(edges) if part.ShapeType == "Wire" else Part.makeCompound(edges))
+    return out
+
+
+def _curve3d(fit):
+    import FreeCAD as App
+    knots, mults = _knots_mults(fit.knots)
+    c = Part.BSplineCurve()
+    c.buildFromPolesMultsKnots([App.Vector(*p) for p in fit.poles.tolist()], mults, knots,
+                               False, fit.degree)
+    return c
+
+
+# --- what the result reports -------------------------------------------------------------
+
+def continuity_report(shape, smap):
+    """Continuity and SplitFaces outputs: a face crossing a joint is G1 there when its
+    normal is perpendicular to the jump of the map's derivative along the normal (zero
+    for a Smooth profile: the joint is C1), else C0."""
+    worst = {}
+    for side, origin in ((0, smap.origin), (1, smap.origin + smap.gap * smap.normal)):
+        for name, face, edges in brep.crossing_faces(shape, origin, smap.normal):
+            points, normals = brep.joint_normals(face, edges)
+            if not len(points):
+                continue
+            jump = smap.normal_derivative(points, side)
+            size = np.linalg.norm(jump, axis=1)
+            cos = np.abs(np.einsum("ij,ij->i", normals, jump)) / np.linalg.norm(normals, axis=1)
+            kind = "G1" if np.all((size < 1e-6) | (cos <= 1e-6 * np.maximum(size, 1e-300))) \
+                else "C0"
+            worst[name] = "C0" if "C0" in (kind, worst.get(name)) else kind
+    entries = sorted(worst.items(), key=lambda item: int(item[0][4:]))
+    return {"Continuity": continuity.report(entries), "SplitFaces": [n for n, _ in entries]}
+
+
+def deviation_check(result, original_faces, smap, count=200, seed=0):
+    """Largest distance from random points of the mapped original faces to the result
+    (an independent check of MaxDeviation: the exact map of the original, not the fits)."""
+    rng = np.random.default_rng(seed)
+    pts = []
+    for face in original_faces:
+        u0, u1, v0, v1 = face.ParameterRange
+        for _ in range(count):
+            u, v = rng.uniform(u0, u1), rng.uniform(v0, v1)
+            if face.isPartOfDomain(u, v):
+                pts.append(tuple(face.Surface.value(u, v)))
+    if not pts:
+        return 0.0
+    mapped = smap(np.array(pts, float))
+    return max(result.distToShape(Part.Vertex(vector(p)))[0] for p in mapped)
