@@ -323,8 +323,10 @@ def _sewn(faces):
     except Part.OCCError:  # OCCT's sewing fails on some degenerate B-spline faces
         return None
     shells = sewn.Shells
-    if not shells or not all(sh.isClosed() for sh in shells) or sum(
-            len(sh.Faces) for sh in shells) != len(sewn.Faces):
+    in_shells = {f.hashCode() for sh in shells for f in sh.Faces}
+    # a face closed on itself (a spherical void) comes back without a shell
+    shells += [Part.Shell([f]) for f in sewn.Faces if f.hashCode() not in in_shells]
+    if not shells or not all(sh.isClosed() for sh in shells):
         return None
     return solid_of_shells(shells)
 
