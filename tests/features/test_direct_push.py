@@ -323,3 +323,200 @@ class TestSurfaces(PushCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+# --- real models (../shared/testdata) ------------------------------------------------------------
+
+def read(name):
+    shape = Part.Shape()
+    shape.read(fc.testdata(name))
+    return shape
+
+
+def inner_point(face):
+    """(point, outward normal) of the face at the point of a 15 x 15 grid over its
+    parameter range that is inside the face and farthest (in the scaled (u, v)) from its
+    pcurves."""
+    u0, u1, v0, v1 = face.ParameterRange
+    edge_uv = []
+    for e in face.Edges:
+        c2d, a, b = face.curveOnSurface(e)
+        edge_uv += [((p.x - u0) / (u1 - u0), (p.y - v0) / (v1 - v0))
+                    for p in c2d.discretize(Number=100, First=a, Last=b)]
+    edge_uv = np.array(edge_uv)
+    best = None
+    for a in np.linspace(0.03, 0.97, 15):
+        for b in np.linspace(0.03, 0.97, 15):
+            d = np.hypot(edge_uv[:, 0] - a, edge_uv[:, 1] - b).min()
+            uv = (u0 + a * (u1 - u0), v0 + b * (v1 - v0))
+            if (best is None or d > best[0]) and face.isInside(face.valueAt(*uv), 1e-9, True):
+                best = (d, uv)
+    return face.valueAt(*best[1]), face.normalAt(*best[1])
+
+
+def c1_iges_like(nu, nv, collapsed=False):
+    """A bicubic surface like the real IGES ones: interior knots of multiplicity 2 (C1);
+    `collapsed`: the first row of poles is one point (a degenerated edge)."""
+    def knots(n):
+        inner = (n - 4) // 2
+        return list(np.linspace(0, 1, inner + 2)), [4] + [2] * inner + [4]
+    (uk, um), (vk, vm) = knots(nu), knots(nv)
+    poles = [[V(10 * i, 12 * j, 6 * np.sin(i / 3) * np.cos(j / 2.5)) for j in range(nv)]
+             for i in range(nu)]
+    if collapsed:
+        poles[0] = [V(0, 40, 3)] * nv
+    surface = Part.BSplineSurface()
+    surface.buildFromPolesMultsKnots(poles, um, vm, uk, vk, False, False, 3, 3)
+    return surface
+
+
+class TestRealModels(PushCase):
+    """DirectPush with default options on the B-spline faces and curves of real models."""
+
+    def push_face_of_solid(self, base, index, fraction=0.02):
+        face = base.Shape.Faces[index]
+        point, normal = inner_point(face)
+        target = point + normal * (fraction * face.BoundBox.DiagonalLength)
+        obj = fd.make_direct_push(base, f"Face{index + 1}", point, target)
+        self.assertValid(obj)
+        assert_pushed_in_solid(self, base.Shape, obj.Shape, index, target)
+        pushed = obj.Shape.Faces[index]
+        for v in face.Vertexes:          # the boundary stays where it was
+            self.assertLess(distance(pushed, v.Point), 1e-9)
+        self.assertGreater(obj.Shape.Volume, base.Shape.Volume)   # pushed outward
+        return obj
+
+    def test_housing_faces_trimmed_natural_seamed_and_degenerate(self):
+        housing = read("occt_Bottom.brep")
+        base = self.feature(housing, "Housing")
+        degenerate = [i for i, f in enumerate(housing.Faces)
+                      if f.Surface.TypeId == "Part::GeomBSplineSurface" and
+                      any(e.Degenerated for e in f.Edges)]
+        self.assertTrue(degenerate)
+        # 9, 31, 33: trimmed (31, 33 share an edge of tolerance 0.01); 180: 8 x 8 poles;
+        # 287: closed in v (a seam); 321: 3 x 128 poles; one with a degenerated edge
+        for index in (9, 31, 33, 180, 287, 321, degenerate[0]):
+            with self.subTest(face=index):
+                obj = self.push_face_of_solid(base, index)
+                if index in (9, 31, 33):
+                    self.assertIn("trimmed", obj.Conversion)
+                self.doc.removeObject(obj.Name)
+
+    def test_a_degenerated_edge_is_refused_by_name(self):
+        housing = read("occt_Bottom.brep")
+        index = next(i for i, e in enumerate(housing.Edges) if e.Degenerated)
+        base = self.feature(housing, "Housing")
+        point = housing.Edges[index].Vertexes[0].Point
+        obj = fd.make_direct_push(base, f"Edge{index + 1}", point, point + V(0, 0, 1))
+        self.assertIn("Invalid", obj.State)
+        self.assertIn("Element", obj.getStatusString())
+        self.assertIn("degenerated", obj.getStatusString())
+
+    def test_a_trimmed_face_alone_keeps_its_boundary_in_parameter_space(self):
+        face = read("occt_Bottom.brep").Faces[31]
+        base = self.feature(face, "Trimmed")
+        point, normal = inner_point(face)
+        target = point + normal * 1.0
+        obj = fd.make_direct_push(base, "Face1", point, target)
+        self.assertValid(obj)
+        new = obj.Shape
+        self.assertTrue(new.isValid())
+        self.assertLess(distance(new, target), 1e-7)
+        self.assertEqual(len(new.Edges), len(face.Edges))
+        # the boundary is the same in (u, v): every old pcurve point is on a new pcurve;
+        # in 3D the old pcurves through the new surface are on the new edges (within
+        # the tolerance OCCT gives the edges' 3D curves)
+        def samples(f, e):
+            c2d, a, b = f.curveOnSurface(e)
+            return np.array([(p.x, p.y) for p in (c2d.value(t) for t in np.linspace(a, b, 20))])
+        pcurves = [samples(new, e) for e in new.Edges]
+        tolerance = max(e.Tolerance for e in new.Edges)
+        for edge in face.Edges:
+            old = samples(face, edge)
+            self.assertLess(min(min(np.abs(c - old).max(), np.abs(c[::-1] - old).max())
+                                for c in pcurves), 1e-9)
+            for u, v in old:
+                on = new.Surface.value(u, v)
+                self.assertLess(new.Wires[0].distToShape(Part.Vertex(on))[0], tolerance)
+
+    def test_terrain_pushes_are_local_and_land(self):
+        terrain = read("occt_terrain.brep")
+        base = self.feature(terrain, "Terrain")
+        face = terrain.Faces[0]
+        u0, u1, v0, v1 = face.ParameterRange
+        points = [face.valueAt(u0 + a * (u1 - u0), v0 + b * (v1 - v0))
+                  for a, b in ((0.5, 0.5), (0.13, 0.77))]
+        targets = [points[0] + V(0, 0, 25), points[1] + V(10, -5, -30)]
+        obj = fd.make_direct_push(base, "Face1", points[0], targets[0])
+        obj.Points, obj.Targets = points, targets
+        self.doc.recompute()
+        self.assertValid(obj)
+        new = obj.Shape.Faces[0]
+        self.assertTrue(new.isValid())
+        size = terrain.BoundBox.DiagonalLength
+        for t in targets:
+            self.assertLess(distance(new, t), 1e-7 * size)
+        before = np.array([[tuple(p) for p in row] for row in face.Surface.getPoles()])
+        after = np.array([[tuple(p) for p in row] for row in new.Surface.getPoles()])
+        self.assertEqual(after.shape, (312, 323, 3))
+        moved = np.count_nonzero(np.abs(after - before).max(axis=2))
+        self.assertLessEqual(moved, 2 * 5 * 5)
+        for a, b in zip(new.Vertexes, terrain.Vertexes):
+            self.assertEqual((a.Point - b.Point).Length, 0.0)
+
+    def test_splinecage_faces_in_a_compound_of_shells(self):
+        cage = read("splinecage.stp")
+        base = self.feature(cage, "Cage")
+        for index, face in enumerate(cage.Faces):
+            with self.subTest(face=index):
+                u0, u1, v0, v1 = face.ParameterRange
+                uv = (0.5 * (u0 + u1), 0.5 * (v0 + v1))
+                target = face.valueAt(*uv) + face.normalAt(*uv)
+                obj = fd.make_direct_push(base, f"Face{index + 1}", face.valueAt(*uv), target)
+                self.assertValid(obj)
+                result = obj.Shape
+                self.assertEqual(len(result.Shells), len(cage.Shells))
+                self.assertLess(distance(result.Faces[index], target), 1e-7)
+                for i, (a, b) in enumerate(zip(cage.Faces, result.Faces)):
+                    if i != index:
+                        self.assertAlmostEqual(a.Area, b.Area, delta=1e-12 * a.Area)
+                self.doc.removeObject(obj.Name)
+
+    def test_c1_iges_like_surfaces_and_a_collapsed_row(self):
+        for nu, nv, collapsed in ((18, 8, False), (18, 14, False), (18, 14, True)):
+            with self.subTest(poles=(nu, nv), collapsed=collapsed):
+                surface = c1_iges_like(nu, nv, collapsed)
+                base = self.feature(Part.Face(surface), "C1")
+                for u in (0.5, 0.02, 0.125):      # 0.125: on a knot of multiplicity 2
+                    point, target = surface.value(u, 0.5), surface.value(u, 0.5) + V(1, 2, 3)
+                    obj = fd.make_direct_push(base, "Face1", point, target)
+                    self.assertValid(obj)
+                    self.assertLess(distance(obj.Shape, target), 1e-9)
+                    self.assertTrue(obj.Shape.isValid())
+                apex = surface.value(0.0, 0.5)     # on the border (a degenerated edge)
+                obj = fd.make_direct_push(base, "Face1", apex, apex + V(0, 0, 3))
+                self.assertIn("Invalid", obj.State)
+                self.assertIn("Points[0]", obj.getStatusString())
+                self.assertIn("degenerated edge", obj.getStatusString())
+
+    def test_iges_curves(self):
+        curves = read("curve_geom_plate.igs")
+        base = self.feature(curves, "Curves")
+        for index, edge in enumerate(curves.Edges):
+            with self.subTest(edge=index):
+                point = edge.valueAt(edge.FirstParameter + 0.4 * (edge.LastParameter -
+                                                                  edge.FirstParameter))
+                obj = fd.make_direct_push(base, f"Edge{index + 1}", point, point + V(0, 0, 1))
+                self.assertValid(obj)
+                self.assertLess(distance(obj.Shape, point + V(0, 0, 1)), 1e-9)
+                for a, b in zip(obj.Shape.Vertexes, edge.Vertexes):
+                    self.assertEqual((a.Point - b.Point).Length, 0.0)
+
+    def test_a_face_of_a_cavity_keeps_every_shell_closed(self):
+        shelf = read("fc_shelf.brep")
+        base = self.feature(shelf, "Shelf")
+        void = shelf.Solids[0].Shells[1].Faces[0]
+        index = next(i for i, f in enumerate(shelf.Faces) if f.isSame(void))
+        obj = self.push_face_of_solid(base, index)
+        self.assertEqual([len(s.Faces) for s in obj.Shape.Solids[0].Shells],
+                         [len(s.Faces) for s in shelf.Solids[0].Shells])
