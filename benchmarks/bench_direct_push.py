@@ -13,7 +13,8 @@ point lands on the target. The drag loop is what a live drag does per mouse move
 a document recompute: one push on the current surface and the Part face rebuilt from its
 poles (what the viewer then shows); frames per second = 1 / (median time of one frame).
 A document recompute of the DirectPush object (all pushes replayed from the Base, face
-rebuilt) is timed too.
+rebuilt) is timed too, on a synthetic surface and on real models (the 312 x 323-pole
+terrain, trimmed and natural faces of the 323-face cast housing).
 """
 import os
 import sys
@@ -118,6 +119,56 @@ def recompute_rows(timer, n):
         App.closeDocument(doc.Name)
 
 
+def testdata(name):
+    folder = os.environ.get("DEFORM_TESTDATA", os.path.join(
+        os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__)))),
+        "shared", "testdata"))
+    shape = Part.Shape()
+    shape.read(os.path.join(folder, name))
+    return shape
+
+
+def real_rows(timer):
+    """A document recompute of one push (replayed from the Base) on the terrain's 312 x
+    323-pole face and on trimmed and natural B-spline faces of the cast housing (a solid
+    of 323 faces: the face is put back with its own edges, the solid checked)."""
+    doc = App.newDocument("BenchDirectPushReal")
+    rows = []
+    try:
+        cases = [("occt_terrain.brep", 0, "terrain face, 312x323 poles"),
+                 ("occt_Bottom.brep", 9, "housing Face10, trimmed"),
+                 ("occt_Bottom.brep", 31, "housing Face32, trimmed (edge tol 0.01)"),
+                 ("occt_Bottom.brep", 180, "housing Face181, 8x8 poles")]
+        for name, index, label in cases:
+            shape = testdata(name)
+            base = doc.addObject("Part::Feature", "Base")
+            base.Shape = shape
+            face = shape.Faces[index]
+            u0, u1, v0, v1 = face.ParameterRange
+            grid = sorted(((u0 + a * (u1 - u0), v0 + b * (v1 - v0))
+                           for a in np.linspace(0.1, 0.9, 9) for b in np.linspace(0.1, 0.9, 9)),
+                          key=lambda x: abs(x[0] - 0.5 * (u0 + u1)) / (u1 - u0) +
+                          abs(x[1] - 0.5 * (v0 + v1)) / (v1 - v0))
+            uv = next(x for x in grid if face.isInside(face.valueAt(*x), 1e-9, True))
+            point = face.valueAt(*uv)
+            target = point + face.normalAt(*uv) * (0.02 * face.BoundBox.DiagonalLength)
+            obj = fd.make_direct_push(base, f"Face{index + 1}", point, target)
+
+            def run():
+                obj.touch()
+                doc.recompute()
+                if "Invalid" in obj.State:
+                    raise RuntimeError(obj.getStatusString())
+            t, runs = timer.median(run)
+            pushed = obj.Shape.Faces[index]
+            landed = pushed.distToShape(Part.Vertex(target))[0]
+            rows.append(("document recompute", label, runs, ms(t),
+                         f"{landed:.1e} mm, valid {obj.Shape.isValid()}"))
+    finally:
+        App.closeDocument(doc.Name)
+    return rows
+
+
 def main(argv):
     args, timer = options(argv, __doc__, budget=60.0)
     print(machine_line())
@@ -127,6 +178,8 @@ def main(argv):
     print_table("Drag loop (per mouse move, no document recompute)",
                 ("case", "input", "runs", "time per frame", "rate"),
                 drag_rows(timer, 20) + drag_rows(timer, 30))
+    print_table("One push on real models (default options)",
+                ("case", "input", "runs", "time", "landing error"), real_rows(timer))
 
 
 run_as_script(main, __name__, __file__)

@@ -392,10 +392,14 @@ def with_surface(shape, index, surface):
         result = copy.replaceShape([(face, new)])
     except Part.OCCError:
         return None
-    ok = result.isValid() and len(result.Faces) == len(shape.Faces) and \
-        len(result.Shells) == len(shape.Shells) and \
-        all(s.isClosed() for solid in result.Solids for s in solid.Shells)
-    return result if ok else None
+    if len(result.Faces) != len(shape.Faces) or len(result.Shells) != len(shape.Shells) or \
+            not all(s.isClosed() for solid in result.Solids for s in solid.Shells):
+        return None
+    # only the new face and the faces that share its edges changed: check those (a Base
+    # that OCCT finds invalid elsewhere can still be pushed)
+    new = result.Faces[index]
+    changed = {f.hashCode(): f for e in new.Edges for f in result.ancestorsOfType(e, Part.Face)}
+    return result if new.isValid() and all(f.isValid() for f in changed.values()) else None
 
 
 def moved(surface, before, after):
