@@ -170,10 +170,12 @@ class DimensionDriveCommand(CommandBase):
 
 def point_on_face(face, picked):
     """The picked point when it lies on `face` (or an edge; a selection made without a
-    click reports none, or the origin), else the point of it nearest its centre of mass."""
+    click reports none, or exactly the origin: not a pick even on a face through it), else
+    the point of it nearest its centre of mass."""
     import Part
     size = max(face.BoundBox.DiagonalLength, 1e-9)
-    if picked is not None and face.distToShape(Part.Vertex(picked))[0] < 1e-6 * size:
+    if picked is not None and App.Vector(picked).Length > 0 \
+            and face.distToShape(Part.Vertex(picked))[0] < 1e-6 * size:
         return App.Vector(picked)
     return App.Vector(face.distToShape(Part.Vertex(face.CenterOfMass))[1][0][0])
 
