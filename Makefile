@@ -1,15 +1,21 @@
 # make test : every test (geometry, headless FreeCAD, FreeCAD's own runner, GUI under Xvfb)
 # make demo : the headless demo job -> demo_out/
 # make bench: the timed benchmarks (never part of the tests)
+# make test-freecad11: make test again inside a Debian sid chroot with FreeCAD 1.1 (Qt6,
+#   Python 3.14); root; the chroot is built once in /var/cache/freecad_deform/sid (.ci/chroot-test)
 PY ?= /usr/bin/python3
 export QTWEBENGINE_CHROMIUM_FLAGS ?= --no-sandbox
 
-.PHONY: deps test demo bench
+.PHONY: deps test demo bench test-freecad11
 deps:
 	@.ci/install-deps
 
 test: deps
 	$(PY) -m pytest tests -v -p no:cacheprovider
+
+# GUI screenshots of this run go to tests/gui/_out/freecad-1.1/
+test-freecad11:
+	.ci/chroot-test sid env DEFORM_GUI_OUT=$(CURDIR)/tests/gui/_out/freecad-1.1 make test
 
 demo: deps
 	$(PY) examples/demo.py demo_out
