@@ -86,10 +86,14 @@ def fit_surface(fn, u_range, v_range, tol, degree=3, spans=(4, 4), max_spans=256
     """Fit fn: (U (mu,), V (mv,)) -> values (mu, mv, d) on the grid U x V over the
     parameter rectangle to `tol`. fn is called once per round, on the fitting samples
     interleaved with the check points midway between them; the fit uses the samples only.
-    Spans are cut in u where the deviation at (mid-u, sample-v) points exceeds tol, in v
-    likewise, both where only a mid-cell point does. Returns the fit with the largest
+    A span is cut in u where the fit along u alone misses the mid-u points by more than
+    tol / 2, in v likewise, and in both where only the surface fit misses. Returns the fit with the largest
     deviation found (above tol only when max_spans stopped the refinement). `breaks`:
-    the initial breakpoints (u, v) instead of `spans` uniform spans."""
+    the initial breakpoints (u, v) instead of `spans` uniform spans. Where the values agree
+    at both ends of a direction (a seam) the end pole rows are made equal, and a boundary
+    where every value is one point (a pole of a sphere, an apex) gets all its poles on that
+    point: the fit is closed exactly where the original is, so seams and degenerated edges
+    stay what they are."""
     ub, vb = (np.linspace(*u_range, spans[0] + 1), np.linspace(*v_range, spans[1] + 1)) \
         if breaks is None else (np.asarray(breaks[0], float), np.asarray(breaks[1], float))
     while True:
@@ -97,8 +101,8 @@ def fit_surface(fn, u_range, v_range, tol, degree=3, spans=(4, 4), max_spans=256
         fv, cv = samples(vb)
         uk, vk = knot_vector(ub, degree), knot_vector(vb, degree)
         G = np.asarray(fn(_interleaved(fu, cu), _interleaved(fv, cv)), float)
-        P = np.swapaxes(_solve(design(fv, vk, degree), np.swapaxes(
-            _solve(design(fu, uk, degree), G[::2, ::2]), 0, 1)), 0, 1)
+        P = _closed(np.swapaxes(_solve(design(fv, vk, degree), np.swapaxes(
+            _solve(design(fu, uk, degree), G[::2, ::2]), 0, 1)), 0, 1), G[::2, ::2])
         du, dv = design(_interleaved(fu, cu), uk, degree), design(_interleaved(fv, cv), vk,
                                                                     degree)
         err = np.linalg.norm(_grid(du, P, dv) - G, axis=-1)
@@ -106,16 +110,40 @@ def fit_surface(fn, u_range, v_range, tol, degree=3, spans=(4, 4), max_spans=256
         deviation = max(deviation, float(np.max(err[:, 1::2], initial=0.0)))
         if deviation <= tol:
             return SurfaceFit(uk, vk, P, degree, deviation)
+        # each direction's own error: the samples fitted along it alone, checked midway
+        Du = design(fu, uk, degree)
+        Dv = design(fv, vk, degree)
+        err_u = np.linalg.norm(np.einsum("ia,ajd->ijd", design(cu, uk, degree),
+                                         _solve(Du, G[::2, ::2])) - G[1::2, ::2], axis=-1)
+        err_v = np.linalg.norm(np.einsum("ia,ajd->ijd", design(cv, vk, degree),
+                                         _solve(Dv, np.swapaxes(G[::2, ::2], 0, 1)))
+                               - np.swapaxes(G[::2, 1::2], 0, 1), axis=-1)
         bad_u = np.zeros(len(ub) - 1, bool)
         bad_v = np.zeros(len(vb) - 1, bool)
-        bad_u[_span_of(cu, ub)[(err[1::2, ::2] > tol).any(axis=1)]] = True
-        bad_v[_span_of(cv, vb)[(err[::2, 1::2] > tol).any(axis=0)]] = True
-        cell = err[1::2, 1::2] > tol
-        bad_u[_span_of(cu, ub)[cell.any(axis=1)]] |= not bad_u.any()
-        bad_v[_span_of(cv, vb)[cell.any(axis=0)]] |= not bad_v.any()
+        bad_u[_span_of(cu, ub)[(err_u > 0.5 * tol).any(axis=1)]] = True
+        bad_v[_span_of(cv, vb)[(err_v > 0.5 * tol).any(axis=1)]] = True
+        if not (bad_u.any() or bad_v.any()):
+            bad_u[_span_of(cu, ub)[(err[1::2, :] > tol).any(axis=1)]] = True
+            bad_v[_span_of(cv, vb)[(err[:, 1::2] > tol).any(axis=0)]] = True
         if len(ub) - 1 + bad_u.sum() > max_spans or len(vb) - 1 + bad_v.sum() > max_spans:
             return SurfaceFit(uk, vk, P, degree, deviation)
         ub, vb = _refined(ub, bad_u), _refined(vb, bad_v)
+
+
+def _closed(P, G):
+    """Poles with seams closed and collapsed boundaries kept collapsed, as the sample
+    values G (on the fitting grid) show them (see fit_surface)."""
+    P = P.copy()
+    eps = 1e-12 * max(float(np.ptp(G.reshape(-1, G.shape[-1]), axis=0).max()), 1e-300)
+    if np.abs(G[0] - G[-1]).max() <= eps:
+        P[0] = P[-1] = 0.5 * (P[0] + P[-1])
+    if np.abs(G[:, 0] - G[:, -1]).max() <= eps:
+        P[:, 0] = P[:, -1] = 0.5 * (P[:, 0] + P[:, -1])
+    for rows, values in (((0, slice(None)), G[0]), ((-1, slice(None)), G[-1]),
+                         ((slice(None), 0), G[:, 0]), ((slice(None), -1), G[:, -1])):
+        if np.ptp(values, axis=0).max() <= eps:
+            P[rows] = values[0]
+    return P
 
 
 def _grid(du, P, dv):

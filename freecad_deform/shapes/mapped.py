@@ -45,10 +45,9 @@ def map_solid(solid, smap, tol, prop="Tolerance"):
     near, between, far = brep.split_zones(solid, o, n, [0.0, gap])
     if not between:  # the solid lies before Plane or beyond Plane2
         return (near + _moved(far, smap.end))[0], 0.0
-    cut = brep.faces_on_plane(near, o, n)
-    far_cut = brep.faces_on_plane(far, o + gap * n, n)
-    caps = (brep.faces_on_plane(between, o, n)
-            + brep.faces_on_plane(between, o + gap * n, n))
+    cut, caps0 = _shared_on_plane(near, between, o, n)
+    far_cut, caps1 = _shared_on_plane(far, between, o + gap * n, n)
+    caps = caps0 + caps1
     worst, mapped = 0.0, []
     for face in (f for s in between for f in s.Faces if not any(f.isSame(c) for c in caps)):
         new, dev = map_face(face, smap, tol)
@@ -61,6 +60,21 @@ def map_solid(solid, smap, tol, prop="Tolerance"):
     joints = [(o, n), (end[:3, :3] @ (o + gap * n) + end[:3, 3],
                        _unit(np.linalg.inv(end[:3, :3]).T @ n))]
     return sewn_solid(faces, joints, max(worst, tol), prop), worst
+
+
+def _shared_on_plane(a, b, origin, normal):
+    """The faces of pieces `a` and of pieces `b` in the plane that the split made: each
+    has a partner in the other (same area and centre). A face of the part that merely
+    lies in the plane (a shoulder at Plane) has none and stays."""
+    fa, fb = (brep.faces_on_plane(p, origin, normal) for p in (a, b))
+    size = max([s.BoundBox.DiagonalLength for s in a + b] + [1.0])
+
+    def key(f):
+        return np.array(tuple(f.CenterOfMass) + (f.Area / size,)) / size
+
+    ka, kb = [key(f) for f in fa], [key(f) for f in fb]
+    return ([f for f, k in zip(fa, ka) if any(np.allclose(k, q, atol=1e-9) for q in kb)],
+            [f for f, k in zip(fb, kb) if any(np.allclose(k, q, atol=1e-9) for q in ka)])
 
 
 def _unit(v):
@@ -79,12 +93,16 @@ def _moved(shapes, matrix):
 def sewn_solid(faces, joints, deviation, prop):
     """One valid solid from faces that meet within `deviation` (sewn at a few times it;
     voids kept), its faces merged again across the joint planes."""
-    compound = Part.makeCompound(faces)
-    compound.sewShape(max(4.0 * deviation, 1e-6))
-    shells = compound.Shells
-    if not shells or not all(sh.isClosed() for sh in shells):
+    tol = max(4.0 * deviation, 1e-6)
+    shells = _closed_shells(faces, tol)
+    if shells is None:
+        # OCCT's sewing leaves a closed fitted edge apart from an exact one (a hole's
+        # rim at a joint); a fuzzy general fuse shares them
+        fused = faces[0].generalFuse(faces[1:], tol)[0]
+        shells = _closed_shells(fused.Faces, 1e-7)
+    if shells is None:
         raise DeformError(f"The mapped faces do not close a solid (gaps above "
-                          f"{4 * deviation:.3g} mm); lower {prop}.", prop)
+                          f"{tol:.3g} mm); lower {prop}.", prop)
     solid = brep.solid_of_shells(shells)
     if solid is None:
         raise DeformError("The mapped region falls apart into separate bodies; change "
@@ -98,6 +116,18 @@ def sewn_solid(faces, joints, deviation, prop):
         raise DeformError(f"The mapped faces do not join into one valid solid; lower {prop}.",
                           prop)
     return solid
+
+
+def _closed_shells(faces, tol):
+    """The shells the faces make when sewn at `tol`, or None unless every face is in a
+    closed one."""
+    compound = Part.makeCompound(faces)
+    compound.sewShape(tol)
+    shells = compound.Shells
+    if not shells or not all(sh.isClosed() for sh in shells) or \
+            sum(len(sh.Faces) for sh in shells) != len(faces):
+        return None
+    return shells
 
 
 # --- faces -------------------------------------------------------------------------------
@@ -188,25 +218,38 @@ def _knots_mults(full):
 
 def face_on_pcurves(surface, face, pcurve):
     """The face rebuilt on `surface`: every edge made from `pcurve(edge)` -> (Geom2d
-    curve, first, last) on the new surface, wires in the face's order (None when OCCT
-    cannot build a valid face)."""
+    curve, first, last) on the new surface, wires in the face's order. A seam is made
+    once and used both ways (OCCT's shape fixing then adds its second pcurve), so the
+    face stays closed round it. None when OCCT cannot build a valid face."""
     forward = face.reversed() if face.Orientation == "Reversed" else face
     outer = forward.OuterWire
     wires = [outer] + [w for w in forward.Wires if not w.isSame(outer)]
+    seamed = False
     try:
-        built = []
+        built, made = [], {}
         for wire in wires:
-            edges = []
-            for edge in wire.OrderedEdges:
+            edges, ordered = [], wire.OrderedEdges
+            # a seam first: OCCT's wire builder keeps its first edge and copies later
+            # ones to join their vertices, which would split the seam's two uses
+            first = next((k for k, e in enumerate(ordered) if e.isSeam(forward)), 0)
+            for edge in ordered[first:] + ordered[:first]:
+                twin = next((m for e, m in made.items() if e.isSame(edge)), None)
+                if twin is not None and edge.isSeam(forward):
+                    edges.append(twin.reversed())
+                    seamed = True
+                    continue
                 c2d, a, b = pcurve(edge)
                 new = c2d.toShape(surface, a, b)
                 if edge.Orientation == "Reversed":
                     new.reverse()
+                made[edge] = new
                 edges.append(new)
             built.append(Part.Wire(edges))
         result = Part.Face(surface, built[0])
         for wire in built[1:]:
             result = Part.Face(result, wire)
+        if seamed or any(e.Degenerated for e in face.Edges):
+            result.fix(1e-7, 1e-7, 1e-3)
     except Part.OCCError:
         return None
     if face.Orientation == "Reversed":
