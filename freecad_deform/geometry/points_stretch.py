@@ -25,6 +25,20 @@ def spacing(points, sample=20000, seed=0):
     return float(np.median(nearest[np.isfinite(nearest)]))
 
 
+def section_band(s, step):
+    """Mask of the points that make the section at the plane: those within step/2 of it.
+
+    A scan can have no point that close: a stereo or time-of-flight scan cut across its
+    depth has depth values in discrete layers farther apart than its spacing. Then the
+    layer nearest the plane (the points within step/2 of the nearest one) is the section.
+    """
+    dist = np.abs(s)
+    band = dist <= step / 2
+    if band.any() or not len(dist):
+        return band
+    return dist <= dist.min() + step / 2
+
+
 def _check_crossing(s, prop):
     if not (s.min() < 0.0 < s.max()):
         raise DeformError(f"{prop} misses the part: every point is on one side of it; "
@@ -35,7 +49,7 @@ def stretch_points(points, origin, normal, distance, origin2=None, normal2=None,
     """Stretch a cloud by `distance` along `normal` (see the mesh kernel for the cases).
 
     One plane, distance > 0: points beyond the plane move by distance*normal and the
-    section (the points within step/2 of the plane) is swept across the gap every `step`
+    section (the points within step/2 of the plane, see section_band) is swept across the gap every `step`
     (default: the cloud's spacing). distance < 0 removes the slab 0 < s < -distance and
     moves the far part back. Two planes: the region between is stretched along the normal,
     cross-sections kept, the part beyond Plane2 moved rigidly.
@@ -66,7 +80,8 @@ def stretch_points(points, origin, normal, distance, origin2=None, normal2=None,
     out = pts.copy()
     out[s > 0] += distance * n
     step = step or spacing(pts)
-    section = pts[np.abs(s) <= step / 2] - s[np.abs(s) <= step / 2, None] * n
+    band = section_band(s, step)
+    section = pts[band] - s[band, None] * n
     layers = max(int(np.ceil(distance / step)), 1)
     offsets = np.arange(1, layers) * (distance / layers)
     fill = (section[None, :, :] + offsets[:, None, None] * n).reshape(-1, 3)

@@ -8,7 +8,7 @@ import numpy as np
 from .errors import DeformError
 from .motion import apply, apply_each, fraction_matrices
 from .planes import signed_distance, unit_normal
-from .points_stretch import spacing
+from .points_stretch import section_band, spacing
 
 _TOUCH = 1e-9          # points this close to a plane count as on it (as the mesh kernels' eps)
 _PATH_SAMPLES = 2049   # samples of the centroid's trajectory to measure its length
@@ -25,7 +25,8 @@ def sweep_points(points, origin, normal, motion, step=None):
     """Case 1 on a cloud: returns the moved points (input order) followed by the fill.
 
     Points with s <= 0 are returned bit-identical, points with s > 0 moved by
-    motion.matrix(1). The section (points with |s| <= step/2, projected onto the plane) is
+    motion.matrix(1). The section (points with |s| <= step/2, or the nearest layer, see
+    points_stretch.section_band, projected onto the plane) is
     copied by motion.matrix(t_k), the t_k in (0, 1) spaced so that consecutive copies of the
     section's centroid are `step` apart along its trajectory (measured on 2049 samples);
     step defaults to the cloud's spacing (points_stretch.spacing). For a translation along
@@ -43,7 +44,7 @@ def sweep_points(points, origin, normal, motion, step=None):
     out = pts.copy()
     far = s > _TOUCH
     out[far] = apply(motion.matrix(1.0), pts[far])
-    near = np.abs(s) <= step / 2
+    near = section_band(s, step)
     section = pts[near] - s[near, None] * n
     if len(section) == 0:
         return out

@@ -95,3 +95,19 @@ def test_spacing_ignores_repeated_points():
     with pytest.raises(DeformError) as err:
         spacing(np.zeros((5, 3)))
     assert err.value.prop == "Base"
+
+
+def test_depth_layers_farther_apart_than_the_spacing_still_fill_the_gap():
+    """A stereo scan cut across its depth: depth in layers 8 steps apart, the plane between
+    two layers. The nearest layer is the section: the fill repeats its (x, y) pattern."""
+    x, y = np.meshgrid(np.arange(0.0, 20.0), np.arange(0.0, 10.0), indexing="ij")
+    layers = [np.column_stack([x.ravel(), y.ravel(), np.full(x.size, z)])
+              for z in np.arange(0.0, 80.0, 8.0)]
+    pts = np.vstack([lay[lay[:, 0] + lay[:, 1] > k % 3] for k, lay in enumerate(layers)])
+    origin, n = np.array([0.0, 0.0, 33.0]), np.array([0.0, 0.0, 1.0])   # 32 is nearest
+    out = stretch_points(pts, origin, n, 5.0, step=1.0)
+    fill = out[len(pts):]
+    assert len(fill) > 0
+    nearest = pts[pts[:, 2] == 32.0][:, :2]
+    assert {tuple(p) for p in fill[:, :2]} == {tuple(p) for p in nearest}
+    assert np.all((fill[:, 2] > 33.0) & (fill[:, 2] < 38.0))
