@@ -81,9 +81,9 @@ def section_centroid_mesh(mesh, origin, normal):
 
 
 def _cloud_centroid(points, origin, normal):
-    from ..geometry.points_stretch import spacing
+    from ..geometry.points_stretch import section_band, spacing
     s = (points - origin) @ normal
-    near = points[np.abs(s) <= spacing(points)]
+    near = points[section_band(s, 2 * spacing(points))]
     if len(near) == 0:
         raise DeformError("Plane misses the part; move Plane so it crosses the part.", "Plane")
     return near.mean(axis=0) - ((near.mean(axis=0) - origin) @ normal) * normal
