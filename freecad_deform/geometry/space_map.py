@@ -42,9 +42,11 @@ def profile_slope(profile, s):
 
 class SpaceMap:
     """p -> A(profile(s(p))) p. `transforms(t)` gives the (K, 4, 4) affine transforms at the
-    fractions t (K,); `rigid` says whether each A(t) is a rigid motion."""
+    fractions t (K,); `rigid` says whether each A(t) is a rigid motion; `apply(t, points)`,
+    when given, maps points (N, 3) at their fractions t (N,) without building N matrices."""
 
-    def __init__(self, origin, normal, gap, transforms, profile="Linear", rigid=True):
+    def __init__(self, origin, normal, gap, transforms, profile="Linear", rigid=True,
+                 apply=None):
         self.origin = np.asarray(origin, float).reshape(3)
         self.normal = unit_normal(normal)
         self.gap = float(gap)
@@ -55,6 +57,7 @@ class SpaceMap:
         self.profile = profile
         self.transforms = transforms
         self.rigid = rigid
+        self.apply = apply
 
     def s(self, points):
         """The position (N,) of each point along the region, clamped to [0, 1]."""
@@ -68,6 +71,8 @@ class SpaceMap:
 
     def __call__(self, points):
         pts = np.asarray(points, float).reshape(-1, 3)
+        if self.apply is not None:
+            return self.apply(profile_value(self.profile, self.s(pts)), pts)
         return apply_each(self.matrices(self.s(pts)), pts)
 
     @property
@@ -108,9 +113,14 @@ def twist_map(origin, normal, gap, angle, axis_point, axis_direction, profile="L
     """Rotation by profile(s) * angle (radians) about the axis. The map also carries
     `twist_axis` (point, unit direction) and `angle_of(s)`: surfaces of revolution about
     that axis map to themselves, their points turning by angle_of(s)."""
+    c, k = np.asarray(axis_point, float), unit_normal(axis_direction, "Axis")
+
+    def apply(t, pts):
+        return c + _turned(pts - c, k, float(angle) * t)
+
     smap = SpaceMap(origin, normal, gap,
                     twist_motion(origin, normal, gap, angle, axis_point, axis_direction),
-                    profile)
+                    profile, apply=apply)
     smap.twist_axis = (np.asarray(axis_point, float), unit_normal(axis_direction, "Axis"))
     smap.angle_of = lambda s: float(angle) * profile_value(profile, s)
     return smap
@@ -119,8 +129,21 @@ def twist_map(origin, normal, gap, angle, axis_point, axis_direction, profile="L
 def bend_map(origin, normal, gap, angle, axis_point, axis_direction, profile="Linear"):
     """The two-plane bend: the section at s goes to the section at Plane turned about the
     axis by angle * t (the Linear map wraps the region around the axis)."""
+    c, k = np.asarray(axis_point, float), unit_normal(axis_direction, "Axis")
+    shift = float(gap) * unit_normal(normal)
+
+    def apply(t, pts):
+        return c + _turned(pts - np.outer(t, shift) - c, k, float(angle) * t)
+
     return SpaceMap(origin, normal, gap,
-                    bend_motion(axis_point, axis_direction, angle, origin, normal, gap), profile)
+                    bend_motion(axis_point, axis_direction, angle, origin, normal, gap), profile,
+                    apply=apply)
+
+
+def _turned(v, k, phi):
+    """Vectors v (N, 3) turned by the angles phi (N,) about the unit axis k (Rodrigues)."""
+    cos, sin = np.cos(phi)[:, None], np.sin(phi)[:, None]
+    return v * cos + np.cross(k, v) * sin + np.outer(v @ k, k) * (1.0 - cos)
 
 
 def taper_map(origin, normal, gap, scale, axis_point, axis_frame=None, profile="Linear"):
@@ -146,8 +169,12 @@ def taper_map(origin, normal, gap, scale, axis_point, axis_frame=None, profile="
         out[:, 3, 3] = 1.0
         return out
 
+    def apply(t, pts):
+        d = pts - c
+        return pts + np.outer((sx - 1) * t * (d @ ex), ex) + np.outer((sy - 1) * t * (d @ ey), ey)
+
     transforms.vectorized = True
-    return SpaceMap(origin, normal, gap, transforms, profile, rigid=sx == sy == 1)
+    return SpaceMap(origin, normal, gap, transforms, profile, rigid=sx == sy == 1, apply=apply)
 
 
 def stretch_map(origin, normal, gap, distance, profile="Linear"):
@@ -162,4 +189,5 @@ def stretch_map(origin, normal, gap, distance, profile="Linear"):
         return translation(np.asarray(t, float).reshape(-1)[:, None] * distance * n)
 
     transforms.vectorized = True
-    return SpaceMap(origin, normal, gap, transforms, profile)
+    return SpaceMap(origin, normal, gap, transforms, profile,
+                    apply=lambda t, pts: pts + np.outer(t * distance, n))
