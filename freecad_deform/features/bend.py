@@ -2,10 +2,12 @@
 import numpy as np
 
 from ..geometry import motion as mo
+from ..geometry import space_map
 from ..geometry.bend import bend_tangents, check_bend
 from ..geometry.errors import DeformError
-from ..shapes import brep
+from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, plane_arrays, points_from_array
+from . import flex
 from . import split_sweep as ss
 from .base import DeformFeature
 
@@ -13,7 +15,8 @@ from .base import DeformFeature
 class Bend(DeformFeature):
     TYPE = "Bend"
     PROPERTIES = (ss.BASE, ss.PLANE, ss.ANGLE, ss.AXIS, ss.USE_PLANE2, ss.PLANE2,
-                  ss.KEYS, ss.INTERPOLATION, ss.SAMPLES) + ss.RESULTS
+                  ss.KEYS, ss.INTERPOLATION, ss.SAMPLES) + ss.RESULTS + flex.PROPERTIES + (
+                      flex.MAX_DEVIATION,)
 
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj)
@@ -28,14 +31,17 @@ class Bend(DeformFeature):
             return self._discrete(obj, kind, origin, normal, gap, axis_point, axis_direction,
                                   angle)
         shape = obj.Base.Shape
+        report = {"MaxDeviation": 0.0}
         result = bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap,
-                            obj.Samples)
-        shift = None if gap is None else gap * normal
-        joints = [(origin, normal, bend_tangents(axis_point, axis_direction))]
+                            obj.Samples, obj.Profile, flex.tolerance(obj), report)
         if gap is not None:
-            joints.append((origin + shift, normal, bend_tangents(axis_point, axis_direction,
-                                                                 shift)))
-        return result, {**ss.volume_change(result, shape), **ss.joint_report(shape, joints)}
+            smap = space_map.bend_map(origin, normal, gap, angle, axis_point, axis_direction,
+                                      obj.Profile)
+            return result, {**ss.volume_change(result, shape), **report,
+                            **mapped.continuity_report(shape, smap)}
+        joints = [(origin, normal, bend_tangents(axis_point, axis_direction))]
+        return result, {**ss.volume_change(result, shape), **report,
+                        **ss.joint_report(shape, joints)}
 
     def _discrete(self, obj, kind, origin, normal, gap, axis_point, axis_direction, angle):
         from ..geometry import mesh_sweep, points_sweep
@@ -55,8 +61,12 @@ class Bend(DeformFeature):
             mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples, mesh_eps(v))))
 
 
-def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=None, samples=16):
-    """The bent shape: the far part turned by `angle` (radians) about the axis."""
+def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=None, samples=16,
+               profile="Linear", tolerance=1e-3, report=None):
+    """The bent shape: the far part turned by `angle` (radians) about the axis. With two
+    planes, a region of one outline is its section revolved (exact, whatever the profile:
+    it only spaces the sections differently); any other region goes through the bend map
+    (shapes.mapped), report["MaxDeviation"] the largest deviation of a fit."""
     turn = mo.rotation(axis_point, axis_direction, angle)
     far_motion = turn if gap is None else turn @ mo.translation(-gap * normal)
     far_joint = (mo.apply(turn, origin[None])[0], turn[:3, :3] @ normal)
@@ -72,19 +82,16 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
         check_bend(np.vstack([brep.sample_points(f) for f in cut]), normal, axis_point,
                    axis_direction, angle)
         if gap is not None and not brep.is_prismatic(zones[1], origin, normal, gap):
-            fracs = np.linspace(0.0, 1.0, samples + 1)
-            profiles = [brep.transformed(p, turn_to(f)) for p, f in
-                        zip(ss.sections(zones[1], origin, normal, fracs * gap), fracs)]
-            return ss.lofted_join(near, cut, profiles, far, (origin + gap * normal, normal),
-                                  far_motion, [(origin, normal), far_joint], "Angle")
+            smap = space_map.bend_map(origin, normal, gap, angle, axis_point, axis_direction,
+                                      profile)
+            result, deviation = mapped.map_solid(solid, smap, tolerance, "Tolerance", zones)
+            if report is not None:
+                report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
+            return result
         middle = brep.revolved(cut, axis_point, axis_direction, angle)
         moved = brep.transformed(far, far_motion)
         brep.check_apart(near, moved, "Angle")
         return brep.join(near + middle + moved, [(origin, normal), far_joint])
-
-    def turn_to(frac):
-        return mo.rotation(axis_point, axis_direction, frac * angle) @ mo.translation(
-            -frac * gap * normal)
 
     def loose_fn(parts):
         if gap is not None:

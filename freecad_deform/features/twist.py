@@ -3,10 +3,11 @@ axis; the part beyond Plane2 turns rigidly; length and cross-sections are kept."
 import numpy as np
 
 from ..geometry import motion as mo
-from ..geometry.bend import twist_tangents
+from ..geometry import space_map
 from ..geometry.errors import DeformError
-from ..shapes import brep
+from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, plane_arrays, points_from_array
+from . import flex
 from . import split_sweep as ss
 from .base import DeformFeature, Prop
 
@@ -22,7 +23,7 @@ class Twist(DeformFeature):
         Prop("App::PropertyBool", "UseAxis", "Motion",
              "Twist about Axis; when false, about the Plane normal through the centroid of the "
              "cross-section at Plane.", False),
-        ss.AXIS, ss.SAMPLES) + ss.RESULTS
+        ss.AXIS, ss.SAMPLES) + ss.RESULTS + flex.PROPERTIES + (flex.MAX_DEVIATION,)
 
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj, require_plane2=True)
@@ -33,10 +34,12 @@ class Twist(DeformFeature):
             return self._discrete(obj, kind, origin, normal, gap, angle)
         shape = obj.Base.Shape
         axis = self._axis(obj, shape, origin, normal)
-        result = twist_shape(shape, origin, normal, gap, angle, *axis, obj.Samples)
-        tangents = twist_tangents(normal, gap, angle, *axis)
-        joints = [(origin, normal, tangents), (origin + gap * normal, normal, tangents)]
-        return result, {**ss.volume_change(result, shape), **ss.joint_report(shape, joints)}
+        report = {"MaxDeviation": 0.0}
+        result = twist_shape(shape, origin, normal, gap, angle, *axis, obj.Samples,
+                             obj.Profile, flex.tolerance(obj), report)
+        smap = space_map.twist_map(origin, normal, gap, angle, *axis, obj.Profile)
+        return result, {**ss.volume_change(result, shape), **report,
+                        **mapped.continuity_report(shape, smap)}
 
     @staticmethod
     def _axis(obj, shape, origin, normal):
@@ -89,26 +92,33 @@ def _cloud_centroid(points, origin, normal):
     return near.mean(axis=0) - ((near.mean(axis=0) - origin) @ normal) * normal
 
 
-def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, samples=16):
-    """The twisted shape: sections at s turned by angle * s / gap about the axis, lofted."""
+def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, samples=16,
+                profile="Linear", tolerance=1e-3, report=None):
+    """The twisted shape: sections at s turned by angle * profile(s / gap) about the axis,
+    lofted where the region has one outline; elsewhere the region's faces go through the
+    twist map (shapes.mapped), report["MaxDeviation"] the largest deviation of a fit."""
+    smap = space_map.twist_map(origin, normal, gap, angle, axis_point, axis_direction, profile)
     turn = mo.rotation(axis_point, axis_direction, angle)
     far_joint = (mo.apply(turn, (origin + gap * normal)[None])[0], turn[:3, :3] @ normal)
     fracs = np.linspace(0.0, 1.0, samples + 1)
 
     def turn_to(frac):
-        return mo.rotation(axis_point, axis_direction, frac * angle)
+        return mo.rotation(axis_point, axis_direction,
+                           space_map.profile_value(profile, frac) * angle)
 
     def solid_fn(solid):
         near, between, far = brep.split_zones(solid, origin, normal, [0.0, gap])
         cut = brep.faces_on_plane(near, origin, normal)
         if not between:  # this solid lies before Plane or beyond Plane2
             return (near + brep.transformed(far, turn))[0]
-        if cut and brep.is_prismatic(between, origin, normal, gap):
-            profiles = [brep.transformed(brep.translated(cut, f * gap * normal), turn_to(f))
-                        for f in fracs]
-        else:
-            profiles = [brep.transformed(p, turn_to(f)) for p, f in
-                        zip(ss.sections(between, origin, normal, fracs * gap), fracs)]
+        if not (cut and brep.is_prismatic(between, origin, normal, gap)):
+            result, deviation = mapped.map_solid(solid, smap, tolerance, "Tolerance",
+                                                 (near, between, far))
+            if report is not None:
+                report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
+            return result
+        profiles = [brep.transformed(brep.translated(cut, f * gap * normal), turn_to(f))
+                    for f in fracs]
         result = ss.lofted_join(near, cut, profiles, far, (origin + gap * normal, normal), turn,
                                 [(origin, normal), far_joint], "Angle")
         # a twist keeps the volume: a loft too coarse for a steep twist cuts inside its path

@@ -85,9 +85,10 @@ class SpaceMap:
         Plane, from above; side 1: at Plane2, from below), pulled back by the rigid part's
         linear map, minus n: zero where the joint is C1. (N, 3)."""
         pts = np.asarray(points, float).reshape(-1, 3)
-        h = 1e-6 * self.gap
-        step = h * self.normal * (1.0 if side == 0 else -1.0)
-        d = (self(pts + step) - self(pts)) / (h if side == 0 else -h)
+        h = 1e-4 * self.gap * (1.0 if side == 0 else -1.0)
+        # one-sided, second order: exact for the quadratic start of a Smooth profile
+        d = (-3 * self(pts) + 4 * self(pts + h * self.normal)
+             - self(pts + 2 * h * self.normal)) / (2 * h)
         lin = np.eye(3) if side == 0 else self.end[:3, :3]
         return np.linalg.solve(lin, d.T).T - self.normal
 

@@ -43,19 +43,26 @@ def map_shape(shape, smap, tol, prop="Tolerance"):
     return (out[0] if len(out) == 1 else Part.makeCompound(out)), worst
 
 
-def map_solid(solid, smap, tol, prop="Tolerance"):
-    """(one solid, largest deviation) for a solid through the map."""
+def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
+    """(one solid, largest deviation) for a solid through the map; `zones`: its pieces
+    (near, between, far) when the caller split it at both planes already."""
     o, n, gap = smap.origin, smap.normal, smap.gap
-    near, between, far = brep.split_zones(solid, o, n, [0.0, gap])
+    near, between, far = zones or brep.split_zones(solid, o, n, [0.0, gap])
     if not between:  # the solid lies before Plane or beyond Plane2
         return (near + _moved(far, smap.end))[0], 0.0
     cut, caps0 = _shared_on_plane(near, between, o, n)
     far_cut, caps1 = _shared_on_plane(far, between, o + gap * n, n)
     caps = caps0 + caps1
+    inside = [f for s in between for f in s.Faces if not any(f.isSame(c) for c in caps)]
+    smap.check_fold(np.vstack([_face_points(f) for f in inside]),
+                    "Axis" if smap.profile == "Linear" else "Profile")
     worst, mapped = 0.0, []
     fit_tol = min(tol, SEW_FIT)
-    for face in (f for s in between for f in s.Faces if not any(f.isSame(c) for c in caps)):
+    for face in inside:
         new, dev = map_face(face, smap, fit_tol)
+        if dev > tol:
+            raise DeformError(f"A face cannot be fitted to Tolerance ({tol:.3g} mm; it is off "
+                              f"by {dev:.3g} mm); raise Tolerance.", "Tolerance")
         mapped.append(new)
         worst = max(worst, dev)
     faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)] + mapped

@@ -1,0 +1,34 @@
+"""What Twist, Bend and Taper share where the region between the planes goes through a
+space map (geometry.space_map): the Profile, Tolerance and MaxDeviation properties, and
+the mapped B-rep with its outputs."""
+from ..geometry.space_map import PROFILES
+from .base import Prop
+
+PROFILE = Prop("App::PropertyEnumeration", "Profile", "Motion",
+               "How the deformation grows from Plane to Plane2: Linear, or Smooth (zero slope "
+               "at both planes, so the joints with the rigid parts are smooth).",
+               list(PROFILES))
+TOLERANCE = Prop("App::PropertyLength", "Tolerance", "Sweep",
+                 "Largest distance allowed between a refitted face and the exact deformation "
+                 "(faces the deformation keeps in their kind stay exact).", 1e-3)
+MAX_DEVIATION = Prop("App::PropertyFloat", "MaxDeviation", "Result",
+                     "Largest distance, in mm, between the result and the exact deformation, "
+                     "measured at points the fits did not use (0 where every face is exact).",
+                     output=True)
+PROPERTIES = (PROFILE, TOLERANCE)
+
+
+def tolerance(obj):
+    """The Tolerance property as a float, which must be positive."""
+    from ..geometry.errors import DeformError
+    value = float(obj.Tolerance.Value)
+    if not value > 0:
+        raise DeformError("Tolerance must be positive; raise Tolerance.", "Tolerance")
+    return value
+
+
+def mapped_result(shape, smap, obj):
+    """(result shape, {MaxDeviation, Continuity, SplitFaces}) of the B-rep through smap."""
+    from ..shapes import mapped
+    result, deviation = mapped.map_shape(shape, smap, tolerance(obj))
+    return result, {"MaxDeviation": deviation, **mapped.continuity_report(shape, smap)}
