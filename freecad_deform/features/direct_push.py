@@ -132,6 +132,7 @@ def _element(shape, face):
         if key[2]:
             boundary = bspline.boundary_uv(trim, surface, "Element")
     if surface is not None:
+        note += bspline.no_straight_directions(surface)
         s = bspline.surface_arrays(surface)
     for array in s[:4]:
         array.flags.writeable = False

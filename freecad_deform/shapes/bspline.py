@@ -168,6 +168,20 @@ def bspline_of(face, prop="Face", checked=False):
     return _surface_of(face)
 
 
+def no_straight_directions(surface):
+    """Raise the degree of `surface` (in place, exactly) from 1 to 3 where it is 1 (a plane,
+    a cylinder's lines): a push there would crease it along the knot lines. The note to
+    add, or "" when nothing was raised."""
+    u, v = (3 if d == 1 else d for d in (surface.UDegree, surface.VDegree))
+    if (u, v) == (surface.UDegree, surface.VDegree):
+        return ""
+    try:
+        surface.increaseDegree(u, v)
+    except (Part.OCCError, App.Base.FreeCADError):
+        return ""    # kept as it is: creased, but exact
+    return ", degree 1 raised to 3 (a push does not crease it)"
+
+
 def surface_arrays(surface):
     """The Surface (numpy) of a Part.BSplineSurface."""
     poles = np.array([[tuple(p) for p in row] for row in surface.getPoles()], float)
@@ -387,7 +401,7 @@ def with_surface(shape, index, surface):
         new.fix(1e-7, 1e-7, max(1e-3, 2 * tolerance))
         if new.normalAt(*uv).dot(face.normalAt(*old_uv)) < 0:
             new.reverse()
-        if not 0 < new.Area <= Part.Face(surface).Area * (1 + 1e-9):
+        if not 0 < new.Area <= Part.Face(surface).Area * (1 + 1e-6):
             return None   # the boundary did not bound the same region of the new surface
         result = copy.replaceShape([(face, new)])
     except Part.OCCError:
