@@ -323,9 +323,13 @@ class DirectPush(DeformFeature):
         moves = _moves(state.start, state.current)
         outputs = {"MaxPoleMove": moves, "PoleCount": int(len(state.current.weights.ravel())),
                    "Conversion": state.note}
-        if state.kind == "Edge":
-            return bspline.curve_from_arrays(state.current).toShape(), outputs
-        return self._face(obj, state), outputs
+        try:
+            if state.kind == "Edge":
+                return bspline.curve_from_arrays(state.current).toShape(), outputs
+            return self._face(obj, state), outputs
+        except Part.OCCError:   # OCCT refused the new curve or face
+            raise DeformError(f"OCCT could not build the pushed {obj.Element}; push less far "
+                              "or pick another point.", "Targets") from None
 
     def _face(self, obj, state):
         """The Base with the pushed face in place of the element (alone when the Base is

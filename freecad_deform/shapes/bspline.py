@@ -148,7 +148,11 @@ def trimmed(face):
         if found is None:
             return True
         c2d, a, b = found
-        for p in c2d.discretize(Number=16, First=a, Last=b):
+        try:
+            samples = c2d.discretize(Number=16, First=a, Last=b)
+        except Part.OCCError:
+            return True
+        for p in samples:
             if min(abs(p.x - u0), abs(p.x - u1), abs(p.y - v0), abs(p.y - v1)) > tol:
                 return True
     return False
@@ -325,7 +329,11 @@ def trimmed_surface(face, prop="Element"):
         except Part.OCCError:
             raise DeformError(f"{prop}: its {kind} surface has no B-spline form here; "
                               "pick another face.", prop)
-    surface, _ = _surface_of(face)
+    try:
+        surface, _ = _surface_of(face)
+    except Part.OCCError:
+        raise DeformError(f"{prop}: OCCT cannot cut its surface to the face's parameter "
+                          "range; pick another face.", prop)
     return surface, face, _note(kind) + ", trimmed: rebuilt on its boundary's pcurves"
 
 
@@ -388,7 +396,9 @@ def with_surface(shape, index, surface):
     forward = face.reversed() if face.Orientation == "Reversed" else face
     try:
         # a point of the boundary (it did not move) tells how the new surface turns
-        edge = next(e for e in face.Edges if not e.Degenerated)
+        edge = next((e for e in face.Edges if not e.Degenerated), None)
+        if edge is None:
+            return None
         point = edge.valueAt(0.5 * (edge.FirstParameter + edge.LastParameter))
         uv = surface.parameter(point)
         old_uv = face.Surface.parameter(point)
