@@ -1,12 +1,13 @@
 # make test : every test (geometry, headless FreeCAD, FreeCAD's own runner, GUI under Xvfb)
 # make demo : the headless demo job -> demo_out/
 # make bench: the timed benchmarks (never part of the tests)
+# make realparts: the real-parts matrix (issue 10) as a table
 # make test-freecad11: make test again inside a Debian sid chroot with FreeCAD 1.1 (Qt6,
 #   Python 3.14); root; the chroot is built once in /var/cache/freecad_deform/sid (.ci/chroot-test)
 PY ?= /usr/bin/python3
 export QTWEBENGINE_CHROMIUM_FLAGS ?= --no-sandbox
 
-.PHONY: deps test demo bench test-freecad11
+.PHONY: deps test demo bench test-freecad11 realparts
 deps:
 	@.ci/install-deps
 
@@ -26,3 +27,7 @@ bench: deps
 	$(PY) benchmarks/bench_dimension_drive.py
 	$(PY) benchmarks/bench_area_constrain.py
 	$(PY) benchmarks/bench_direct_push.py
+
+# the real-parts matrix (issue 10) as a table: case, result, oracle error, seconds, OCCT floor
+realparts: deps
+	$(PY) -m tests.realparts.matrix

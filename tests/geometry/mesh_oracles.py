@@ -104,3 +104,75 @@ def cylinder_fit(points, axis_guess):
     sol = least_squares(residual, np.r_[c0, a0, r0], xtol=1e-14, ftol=1e-14)
     a = sol.x[3:6] / np.linalg.norm(sol.x[3:6])
     return sol.x[:3], a, abs(sol.x[6]), float(np.sqrt(np.mean(sol.fun ** 2)))
+
+
+def _basis(x, knots, degree):
+    """Values and first derivatives (len(x), n) of the B-spline basis at x (scipy)."""
+    from scipy.interpolate import BSpline
+    t, k = np.asarray(knots, float), degree
+    x = np.clip(x, t[k], t[-k - 1])
+    N = BSpline.design_matrix(x, t, k).toarray()
+    if k == 0:
+        return N, np.zeros_like(N)
+    M = BSpline.design_matrix(x, t, k - 1).toarray()          # n + 1 functions
+    n = N.shape[1]
+    left = t[k:k + n] - t[:n]
+    right = t[k + 1:k + 1 + n] - t[1:n + 1]
+    a = np.divide(k, left, out=np.zeros(n), where=left > 0)
+    b = np.divide(k, right, out=np.zeros(n), where=right > 0)
+    return N, M[:, :n] * a - M[:, 1:n + 1] * b
+
+
+def _gauss(breaks, nodes, splits):
+    """Gauss-Legendre nodes and weights over every interval of `breaks`, each cut in
+    `splits` equal parts."""
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    edges = np.concatenate([np.linspace(a, b, splits + 1)[:-1] for a, b in
+                            zip(breaks[:-1], breaks[1:])] + [breaks[-1:]])
+    lo, hi = edges[:-1], edges[1:]
+    pts = ((hi - lo)[:, None] * (x + 1) / 2 + lo[:, None]).ravel()
+    wts = ((hi - lo)[:, None] * w / 2).ravel()
+    return pts, wts
+
+
+def bspline_area(poles, weights, uknots, vknots, udeg, vdeg, urange, vrange,
+                 nodes=8, splits=1, chunk=256):
+    """Area of a (rational) tensor B-spline surface over urange x vrange by Gauss-Legendre
+    on every knot span (cut in `splits` parts), evaluated with scipy's basis matrices."""
+    P = np.asarray(poles, float)
+    W = np.asarray(weights, float)
+    Pw = P * W[..., None]
+    ub = np.unique(np.clip(uknots, *urange))
+    vb = np.unique(np.clip(vknots, *vrange))
+    uq, uw = _gauss(ub, nodes, splits)
+    vq, vw = _gauss(vb, nodes, splits)
+    Nv, dNv = _basis(vq, vknots, vdeg)
+    total = 0.0
+    for s in range(0, len(uq), chunk):
+        Nu, dNu = _basis(uq[s:s + chunk], uknots, udeg)
+
+        def grid(A, B, C):
+            return np.einsum("ai,ij...,bj->ab...", A, C, B, optimize=True)
+
+        A, Au, Av = grid(Nu, Nv, Pw), grid(dNu, Nv, Pw), grid(Nu, dNv, Pw)
+        w, wu, wv = grid(Nu, Nv, W), grid(dNu, Nv, W), grid(Nu, dNv, W)
+        S = A / w[..., None]
+        Su = (Au - S * wu[..., None]) / w[..., None]
+        Sv = (Av - S * wv[..., None]) / w[..., None]
+        J = np.linalg.norm(np.cross(Su, Sv), axis=-1)
+        total += float(uw[s:s + chunk] @ J @ vw)
+    return total
+
+
+def converged_area(*surface, tol=1e-13, max_splits=16):
+    """bspline_area with nodes doubled, then every span cut in 2, 4, ... until two
+    successive values agree to `tol` (relative): (area, last change). Cutting the spans
+    as well as adding nodes converges where the Jacobian vanishes at a corner."""
+    plan = [(4, 1), (8, 1), (16, 1)] + [(16, s) for s in (2, 4, 8, 16) if s <= max_splits]
+    last = None
+    for nodes, splits in plan:
+        value = bspline_area(*surface, nodes=nodes, splits=splits)
+        if last is not None and abs(value - last) <= tol * abs(value):
+            return value, abs(value - last) / abs(value)
+        last = value
+    return last, abs(value - bspline_area(*surface, nodes=8, splits=max_splits)) / abs(value)

@@ -11,6 +11,7 @@ import numpy as np
 from . import oracles as orc
 
 import FreeCAD as App  # noqa: E402
+import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.base import DeformFeature  # noqa: E402
@@ -323,6 +324,245 @@ def run_points(case, doc, floor):
     return Outcome("ok", "", errors, seconds)
 
 
+# --- DimensionDrive on the meshes ----------------------------------------------------------
+# Surfaces are given by hand from the models (a plane: point, normal; a cylinder: point on
+# the axis, axis, radius) with a hint point and a radius around it; the test selects the
+# vertices on them itself and fits planes and cylinders to those vertices before and after.
+def _plane(point, normal, hint, reach):
+    return ("plane", np.array(point, float), np.array(normal, float), np.array(hint, float),
+            reach)
+
+
+def _cyl(point, axis, radius, hint, reach):
+    return ("cyl", np.array(point, float), np.array(axis, float), radius,
+            np.array(hint, float), reach)
+
+
+DIMENSIONS = {  # id: (model, kind, surfaces, target, origin, axis point)
+    "dimension-fandisk-distance": (
+        "fandisk.obj", "Distance",
+        [_plane((4.8279, 0, 0), (1, 0, 0), (4.83, 15.63, -0.29), 1.5),
+         _plane((0, 0, 0), (-1, 0, 0), (0, 14.98, -1.31), 1.5)], 4.9, None, None),
+    "dimension-sh2-distance": (
+        "occt_sh2.stl", "Distance",
+        [_plane((-55.5, 0, 0), (1, 0, 0), (-55.5, -17.89, -32), 20),
+         _plane((-159, 0, 0), (-1, 0, 0), (-159, -18.75, -32), 20)], 100.0, None, None),
+    "dimension-sh2-radius": (
+        "occt_sh2.stl", "Radius",
+        [_cyl((0, 0, -32), (1, 0, 0), 29.0, (-109.25, -29, -32), 200)], 28.0, None, None),
+    "dimension-TR12J-distance": (
+        "occt_TR12J_OCC.stl", "Distance",
+        [_plane((0, 0, 320.5), (0, 0, 1), (232, 0, 320.5), 600),
+         _plane((0, 0, 0), (0, 0, -1), (2.75, -56.4, 0), 150)], 310.0, None, None),
+    "dimension-TR12J-radius": (
+        "occt_TR12J_OCC.stl", "Radius",
+        [_cyl((0, 0, 0), (0, 0, 1), 85.0, (-85, 0, 30), 200)], 88.0, None, None),
+    "dimension-counter-radius": (
+        "trimesh_counter.unitsmm.STL", "Radius",
+        [_cyl((153.93, 75.87, 0), (0, 0, 1), 7.938, (153.93, 75.87, 276.94), 12)], 9.0,
+        None, None),
+    "dimension-counter-position": (
+        "trimesh_counter.unitsmm.STL", "Position",
+        [_plane((0, 0, 281.7), (0, 0, 1), (100, 157.98, 281.7), 40),
+         _cyl((180.61, 157.98, 0), (0, 0, 1), 7.938, (180.61, 157.98, 276.62), 12)],
+        (139.7, 5.0), (40.91, 157.98, 281.7), (80.0, 157.98, 281.7)),
+    "dimension-counter-distance": (
+        "trimesh_counter.unitsmm.STL", "Distance",
+        [_plane((0, 0, 281.7), (0, 0, 1), (100, 157.98, 281.7), 40),
+         _plane((0, 0, 269), (0, 0, -1), (40.28, 158.95 + 60, 269), 40)], 14.0, None, None),
+}
+
+
+def dimension_cases():
+    out = [Case(k, "dimension", v[0], "DimensionDrive", {}) for k, v in DIMENSIONS.items()]
+    out.append(Case("dimension-sh2-radius-too-far", "dimension", "occt_sh2.stl",
+                    "DimensionDrive", {"like": "dimension-sh2-radius", "target": 60.0},
+                    "Target"))
+    return out
+
+
+def on_surface(V, surface, tol):
+    """Indices of the vertices on a hand-given plane or cylinder, near its hint."""
+    if surface[0] == "plane":
+        _, point, normal, hint, reach = surface
+        near = np.abs((V - point) @ normal) <= tol
+    else:
+        _, point, axis, radius, hint, reach = surface
+        d = V - point
+        near = np.abs(np.linalg.norm(d - np.outer(d @ axis, axis), axis=1) - radius) <= tol
+    return np.flatnonzero(near & (np.linalg.norm(V - hint, axis=1) <= reach))
+
+
+def pick(V, T, idx):
+    """A point on the mesh inside the selected surface: the centre of a triangle all of
+    whose corners are selected, nearest the selection's mean."""
+    inside = np.isin(T, idx).all(axis=1)
+    centres = V[T[inside]].mean(axis=1)
+    return centres[np.argmin(np.linalg.norm(centres - V[idx].mean(axis=0), axis=1))]
+
+
+_DRIVES = {}
+
+
+def _drive_object(model, doc):
+    """One DimensionDrive per model, kept across cases: its handle (segmentation, fits,
+    prisms) is built once, as when a user edits the dimension of one object."""
+    key = model
+    if key not in _DRIVES or _DRIVES[key][0] not in App.listDocuments().values():
+        mdoc = App.newDocument("RealPartsDimension")
+        base = mdoc.addObject("Mesh::Feature", "Base")
+        base.Mesh = mesh_of(model)
+        _DRIVES[key] = (mdoc, base, None)
+    mdoc, base, obj = _DRIVES[key]
+    return mdoc, base, obj
+
+
+def run_dimension(case, doc, floor):
+    from ..geometry import mesh_oracles as mo
+    spec = DIMENSIONS[case.params.get("like", case.id)]
+    model, kind, surfaces, target, origin, axis_point = spec
+    target = case.params.get("target", target)
+    mesh = mesh_of(model)
+    V0, T0 = arrays(mesh)
+    size = float(np.linalg.norm(V0.max(axis=0) - V0.min(axis=0)))
+    tol = 2e-4 * size
+    sel = [on_surface(V0, sf, tol) for sf in surfaces]
+    for sf, idx in zip(surfaces, sel):
+        if len(idx) < 6:
+            raise AssertionError(f"the test's {sf[0]} near {sf[-2]} has {len(idx)} vertices")
+    regions = [V(*pick(V0, T0, idx)) for idx in sel]
+    mdoc, base, obj = _drive_object(model, doc)
+    t0 = time.perf_counter()
+    if obj is None:
+        options = {}
+        if kind == "Position":
+            options = {"origin": origin, "axis_point": axis_point}
+        obj = fd.make_dimension_drive(base, kind, regions, target, **options)
+        _DRIVES[model] = (mdoc, base, obj)
+    else:
+        obj.Kind = kind
+        obj.Regions = regions
+        if kind == "Position":
+            obj.Target, obj.TargetV = target
+            obj.Origin, obj.AxisPoint = V(*origin), V(*axis_point)
+        else:
+            obj.Target = target
+        mdoc.recompute()
+    seconds = time.perf_counter() - t0
+    status, message = outcome_of(obj)
+    if status != "ok":
+        return Outcome(status, message, {}, seconds)
+    V1, T1 = arrays(obj.Mesh)
+    errors = {"topology": (float(not np.array_equal(T0, T1)), 0.5)}
+    n0 = np.cross(V0[T0[:, 1]] - V0[T0[:, 0]], V0[T0[:, 2]] - V0[T0[:, 0]])
+    n1 = np.cross(V1[T1[:, 1]] - V1[T1[:, 0]], V1[T1[:, 2]] - V1[T1[:, 0]])
+    errors["flipped"] = (float((np.einsum("ij,ij->i", n0, n1) <= 0).sum()), 0.5)
+    fit_tol = 1e-5 * size + 1e-6 * np.abs(V0).max()   # float32 storage
+    if kind == "Distance":
+        (na, ca, ra), (nb, cb, rb) = mo.plane_fit(V1[sel[0]]), mo.plane_fit(V1[sel[1]])
+        if na @ nb < 0:
+            nb, cb = -nb, -cb
+        achieved = abs(ca - cb)
+        errors["planes flat"] = (max(ra, rb), fit_tol)
+        errors["parallel"] = (float(np.linalg.norm(np.cross(na, nb))), 1e-6)
+    elif kind == "Radius":
+        _, _, achieved, rms = mo.cylinder_fit(V1[sel[0]], surfaces[0][2])
+        errors["cylinder round"] = (rms, fit_tol)
+    else:
+        nb, cb, rb = mo.plane_fit(V1[sel[0]])
+        c, a, r, rms = mo.cylinder_fit(V1[sel[1]], surfaces[1][2])
+        foot = c + (cb - c @ nb) / (a @ nb) * a
+        o = np.asarray(origin, float)
+        eu = np.asarray(axis_point, float) - o
+        eu -= (eu @ nb) * nb
+        eu /= np.linalg.norm(eu)
+        ev = np.cross(nb, eu)
+        achieved = float(np.linalg.norm([(foot - o) @ eu - target[0], (foot - o) @ ev - target[1]]))
+        errors["hole round"] = (rms, fit_tol)
+        errors["hole radius kept"] = (abs(r - surfaces[1][3]), fit_tol)
+        target = 0.0
+    errors["dimension"] = (abs(achieved - target), 10 * fit_tol)
+    if kind != "Position":
+        errors["Achieved"] = (abs(obj.Achieved - target), 10 * fit_tol)
+    return Outcome("ok", "", errors, seconds)
+
+
+# --- AreaConstrain and DirectPush on B-spline faces -------------------------------------------
+FACES = (("occt_Bottom.brep", "Face23"), ("occt_Bottom.brep", "Face20"),
+         ("occt_terrain.brep", "Face1"), ("splinecage.stp", "Face2"))
+
+
+def surface_cases():
+    out = []
+    for model, face in FACES:
+        for feature in ("AreaConstrain", "DirectPush"):
+            out.append(Case(f"{feature.lower()}-{_short(model)}-{face}", "surface", model,
+                            feature, {"face": face}))
+    out.append(Case("areaconstrain-occt_Bottom-holes", "surface", "occt_Bottom.brep",
+                    "AreaConstrain", {"face": "holes"}, "Face"))
+    return out
+
+
+def surface_of(face):
+    """The arrays of a face's B-spline surface for mesh_oracles.bspline_area."""
+    S = face.Surface
+    def flat(knots, mults):
+        return np.repeat(knots, mults)
+    poles = np.array([[tuple(p) for p in row] for row in S.getPoles()])
+    weights = np.array(S.getWeights())
+    u0, u1, v0, v1 = face.ParameterRange
+    return (poles, weights, flat(S.getUKnots(), S.getUMultiplicities()),
+            flat(S.getVKnots(), S.getVMultiplicities()), S.UDegree, S.VDegree,
+            (u0, u1), (v0, v1))
+
+
+def _face_with_holes(shape):
+    return next(f"Face{i}" for i, f in enumerate(shape.Faces, 1) if len(f.Wires) > 1)
+
+
+def run_surface(case, doc, floor):
+    from ..geometry import mesh_oracles as mo
+    shape = shape_of(case.model)
+    name = case.params["face"]
+    if name == "holes":
+        name = _face_with_holes(shape)
+    face = shape.getElement(name)
+    base = doc.addObject("Part::Feature", "Base")
+    base.Shape = shape
+    size = face.BoundBox.DiagonalLength
+    t0 = time.perf_counter()
+    if case.feature == "AreaConstrain":
+        obj = fd.make_area_constrain(base, name, "103%")
+    else:
+        u0, u1, v0, v1 = face.ParameterRange
+        u, v = u0 + 0.43 * (u1 - u0), v0 + 0.57 * (v1 - v0)
+        p, nrm = face.valueAt(u, v), face.normalAt(u, v)
+        target = p + nrm * (0.02 * size)
+        obj = fd.make_direct_push(base, name, p, target)
+    seconds = time.perf_counter() - t0
+    status, message = outcome_of(obj)
+    if status != "ok":
+        return Outcome(status, message, {}, seconds)
+    result = obj.Shape
+    centre = np.array(tuple(face.CenterOfMass))
+    errors = {"valid": (0.0 if result.isValid() else 1.0, 0.5)}
+    if case.feature == "AreaConstrain":
+        cands = [f for f in result.Faces if type(f.Surface).__name__ == "BSplineSurface"
+                 and f.Surface.NbUPoles == face.Surface.NbUPoles
+                 and f.Surface.NbVPoles == face.Surface.NbVPoles]
+        new = min(cands, key=lambda f: np.linalg.norm(np.array(tuple(f.CenterOfMass)) - centre))
+        a0, c0 = mo.converged_area(*surface_of(face))
+        a1, c1 = mo.converged_area(*surface_of(new))
+        errors["area"] = (abs(a1 / a0 - 1.03), 1e-10)
+        errors["quadrature converged"] = (max(c0, c1), 1e-12)
+        errors["AchievedArea"] = (abs(obj.AchievedArea - a1) / a1, 1e-10)
+    else:
+        errors["push lands"] = (result.distToShape(Part.Vertex(target))[0] / size, 1e-7)
+        if len(shape.Solids):
+            errors["solids"] = (abs(len(result.Solids) - len(shape.Solids)), 0.5)
+    return Outcome("ok", "", errors, seconds)
+
+
 # --- running a case -------------------------------------------------------------------------
 _RAISED = {}
 
@@ -363,11 +603,12 @@ def outcome_of(obj):
     return "FAILED", what
 
 
-RUNNERS = {"brep": run_brep, "mesh": run_mesh, "points": run_points}
+RUNNERS = {"brep": run_brep, "mesh": run_mesh, "points": run_points,
+           "dimension": run_dimension, "surface": run_surface}
 
 
 def all_cases():
-    return brep_cases() + discrete_cases()
+    return brep_cases() + discrete_cases() + dimension_cases() + surface_cases()
 
 
 def run(case, floor=False):

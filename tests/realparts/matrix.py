@@ -19,13 +19,17 @@ def row(case, out):
         result = f"FAILED: {out.message}"
     if case.expect != "ok" and out.status != "refused":
         result = f"FAILED (expected a refusal naming {case.expect}): " + result
-    worst = out.worst()
+    worst = out.worst() if out.passed(case) else max(
+        ((k, *v) for k, v in out.errors.items()), key=lambda e: e[1] / e[2], default=None)
+    if "-v" in sys.argv and out.errors:
+        print("   ", {k: (float(f"{e:.3g}"), float(f"{t:.3g}")) for k, (e, t) in out.errors.items()})
     oracle = f"{worst[0]} {worst[1]:.2g} (tol {worst[2]:.0g})" if worst else ""
     floor = f"{out.floor:.2f}" if out.floor is not None else ""
     return case.id, result, oracle, f"{out.seconds:.2f}", floor
 
 
 def main(argv):
+    argv = [a for a in argv if a != "-v"]
     picked = [c for c in cases.all_cases() if not argv or any(a in c.id for a in argv)]
     print("| case | result | oracle error | s | OCCT floor s |")
     print("| --- | --- | --- | --- | --- |")
