@@ -4,6 +4,7 @@ four-sided face, and a face replaced in its shell or solid."""
 import FreeCAD as App
 import numpy as np
 import Part
+from scipy.optimize import linear_sum_assignment
 
 from ..geometry.bspline_area import Surface
 from ..geometry import direct_push as dp
@@ -235,12 +236,26 @@ def replaced_all(shape, faces_by_index):
         shell = Part.Shell(faces)
         shell.sewShape()
         shell = shell.Shells[0] if shell.Shells else shell
+        if len(shell.Faces) == len(faces):
+            shell = Part.Shell(in_order(shell.Faces, faces))
         result = Part.Solid(shell) if kind == "Solid" else shell
     except Part.OCCError:  # the faces do not close up again (e.g. a seam that moved)
         return None
     if kind == "Solid" and result.Volume < 0:
         result.reverse()
     return result if result.isValid() and len(result.Faces) == len(faces) else None
+
+
+def in_order(sewn, faces):
+    """The sewn faces in the order of `faces` (sewing may reorder them; FaceN must stay
+    FaceN): matched by centre of mass and area, one to one."""
+    def key(fs):
+        return np.array([tuple(f.CenterOfMass) + (f.Area,) for f in fs])
+    a, b = key(faces), key(sewn)
+    cost = np.linalg.norm(a[:, None, :3] - b[None, :, :3], axis=2) + \
+        np.abs(a[:, None, 3] - b[None, :, 3])
+    rows, cols = linear_sum_assignment(cost)
+    return [sewn[c] for _, c in sorted(zip(rows, cols))]
 
 
 def _oriented_pieces(face):
