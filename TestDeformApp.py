@@ -9,12 +9,12 @@ if sys.path[0] != _HERE:
 
 from tests.features import (test_area_constrain, test_bend_twist,  # noqa: E402
                             test_dimension_drive, test_direct_push, test_stretch,
-                            test_voids)
+                            test_reliability, test_voids)
 
 
 def load_tests(loader, tests, pattern):
     suite = unittest.TestSuite()
     for module in (test_stretch, test_bend_twist, test_dimension_drive, test_area_constrain,
-                   test_direct_push, test_voids):
+                   test_direct_push, test_voids, test_reliability):
         suite.addTests(loader.loadTestsFromModule(module))
     return suite

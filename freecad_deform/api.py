@@ -29,22 +29,27 @@ def _create(proxy_class, base, name):
 
 def _make(proxy_class, base, values):
     """Create, set `values` (property name -> value), recompute: one undo step (or the
-    caller's, if one is open)."""
+    caller's, if one is open). A call that raises leaves the document as it was: the new
+    object removed, the Base shown again, no transaction left open."""
     doc = base.Document
-    own = not (doc.HasPendingTransaction or App.getActiveTransaction())
+    own = doc.UndoMode > 0 and not (doc.HasPendingTransaction or App.getActiveTransaction())
     if own:
         doc.openTransaction(proxy_class.TYPE)
+    shown, name, done = base.Visibility, None, False
     try:
         obj = _create(proxy_class, base, proxy_class.TYPE)
-        for name, value in values.items():
-            setattr(obj, name, value)
+        name = obj.Name
+        for prop, value in values.items():
+            setattr(obj, prop, value)
         doc.recompute()
-    except Exception:
+        done = True
+    finally:
         if own:
-            doc.abortTransaction()
-        raise
-    if own:
-        doc.commitTransaction()
+            doc.commitTransaction() if done else doc.abortTransaction()
+        if not done:  # abortTransaction already removed it where undo is on
+            if name is not None and doc.getObject(name) is not None:
+                doc.removeObject(name)
+            base.Visibility = shown
     return obj
 
 

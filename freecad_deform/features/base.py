@@ -1,4 +1,5 @@
 """What every Deform feature shares: its properties, saving, the base it reads, its errors."""
+import math
 from typing import Any, NamedTuple
 
 from ..geometry.errors import DeformError
@@ -29,6 +30,48 @@ def base_kind(base):
     if hasattr(base, "Shape"):
         return "Part"
     raise DeformError(f"Base {base.Label} is not a solid, a mesh or a point cloud; link one.", "Base")
+
+
+def check_links(obj):
+    """Base must not be the object itself nor depend on it: each recompute would deform
+    the previous result again."""
+    base = obj.Base
+    if base is None:
+        return
+    try:
+        cycle = base == obj or obj in base.OutListRecursive
+    except IndexError:  # FreeCAD: "cyclic dependency detected"
+        cycle = True
+    if cycle:
+        raise DeformError(f"Base {base.Label} depends on {obj.Label} itself, so every "
+                          f"recompute would deform its own result again; link a Base that "
+                          f"does not use {obj.Label}.", "Base")
+
+
+def _finite(value):
+    """False if a number in `value` (float, Quantity, Vector, Placement, list) is NaN or
+    infinite."""
+    if isinstance(value, (list, tuple)):
+        return all(_finite(v) for v in value)
+    if hasattr(value, "Value") and not isinstance(value, str):  # Quantity
+        value = value.Value
+    elif hasattr(value, "Rotation"):  # Placement
+        return _finite(tuple(value.Base)) and _finite(tuple(value.Rotation.Q))
+    elif hasattr(value, "x") and hasattr(value, "z"):  # Vector
+        return _finite((value.x, value.y, value.z))
+    return not isinstance(value, float) or math.isfinite(value)
+
+
+def check_finite(obj, properties):
+    """Every number the user set must be finite: NaN or infinity would reach OCCT and the
+    solvers (some never return)."""
+    for p in properties:
+        if p.output or p.type.startswith(("App::PropertyLink", "App::PropertyString",
+                                          "App::PropertyEnumeration", "App::PropertyBool")):
+            continue
+        if not _finite(getattr(obj, p.name)):
+            raise DeformError(f"{p.name} holds a value that is not a finite number (NaN or "
+                              f"infinity); give {p.name} a finite value.", p.name)
 
 
 class DeformFeature:
@@ -69,6 +112,8 @@ class DeformFeature:
     __setstate__ = loads
 
     def execute(self, obj):
+        check_links(obj)
+        check_finite(obj, self.PROPERTIES)
         kind = base_kind(obj.Base)
         result, outputs = self.compute(obj, kind)
         setattr(obj, {"Part": "Shape", "Mesh": "Mesh", "Points": "Points"}[kind], result)

@@ -1,0 +1,115 @@
+"""Regression tests of the reliability campaign (issue 11): self-links and cycles, values
+that are not finite, failed make_* calls, the Base only read.
+
+Oracles: OCCT's Volume of the Base's box (closed form), the document's object list,
+FreeCAD's own transaction state.
+"""
+import os
+import tempfile
+import unittest
+
+from . import fc
+
+import FreeCAD as App  # noqa: E402
+import Part  # noqa: E402
+
+import freecad_deform as fd  # noqa: E402
+
+V = App.Vector
+NAN, INF = float("nan"), float("inf")
+
+
+class ReliabilityTest(unittest.TestCase):
+    def setUp(self):
+        self.doc = fc.new_document("Reliability")
+        self.box = self.doc.addObject("Part::Feature", "Box")
+        self.box.Shape = Part.makeBox(40, 20, 10)
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def assert_refused(self, obj, prop):
+        self.assertIn("Invalid", obj.State)
+        message = obj.getStatusString()
+        self.assertIn(prop, message)
+        return message
+
+    def test_self_link_is_refused_and_nothing_grows(self):
+        s = fd.make_stretch(self.box, (V(20, 0, 0), V(1, 0, 0)), 5)
+        self.assertAlmostEqual(s.Shape.Volume, 45 * 200, delta=1e-6)
+        s.Base = s
+        for _ in range(3):
+            s.touch()
+            self.doc.recompute()
+            self.assert_refused(s, "Base")
+            self.assertAlmostEqual(s.Shape.Volume, 45 * 200, delta=1e-6)
+        s.Base = self.box
+        self.doc.recompute()
+        self.assertEqual(s.State, ["Up-to-date"])
+
+    def test_cycle_is_refused_and_reopens_as_saved(self):
+        a = fd.make_stretch(self.box, (V(20, 0, 0), V(1, 0, 0)), 5)
+        b = fd.make_stretch(a, (V(20, 0, 0), V(1, 0, 0)), 5)
+        self.assertAlmostEqual(b.Shape.Volume, 50 * 200, delta=1e-6)
+        a.Base = b
+        self.doc.recompute()
+        self.assert_refused(a, "Base")
+        self.assertAlmostEqual(a.Shape.Volume, 45 * 200, delta=1e-6)
+        path = os.path.join(tempfile.mkdtemp(), "cycle.FCStd")
+        self.doc.saveAs(path)
+        name = self.doc.Name
+        App.closeDocument(name)
+        self.doc = App.openDocument(path)
+        self.doc.recompute()
+        for obj in self.doc.Objects:
+            if obj.Name != "Box":
+                self.assertLessEqual(obj.Shape.Volume, 50 * 200 + 1e-6, obj.Name)
+
+    def test_values_that_are_not_finite_are_refused(self):
+        s = fd.make_stretch(self.box, (V(20, 0, 0), V(1, 0, 0)), 5)
+        for value in (NAN, INF, -INF):
+            s.Distance = value
+            self.doc.recompute()
+            self.assert_refused(s, "Distance")
+        s.Distance = 5
+        s.Plane = App.Placement(V(NAN, 0, 0), App.Rotation())
+        self.doc.recompute()
+        self.assert_refused(s, "Plane")
+        b = fd.make_bend(self.box, (V(20, 0, 0), V(1, 0, 0)), -30, (V(20, 0, 40), V(0, 1, 0)))
+        self.assertEqual(b.State, ["Up-to-date"])
+        b.Axis = App.Placement(V(20, INF, 40), App.Rotation(V(0, 0, 1), V(0, 1, 0)))
+        self.doc.recompute()
+        self.assert_refused(b, "Axis")
+        self.assertAlmostEqual(self.box.Shape.Volume, 8000.0, delta=1e-9)
+
+    def test_push_to_a_target_that_is_not_finite_is_refused(self):
+        e = self.doc.addObject("Part::Feature", "Curve")
+        e.Shape = Part.makeCircle(10)
+        p = fd.make_direct_push(e, "Edge1", V(0, 10, 0), V(0, 12, 0))
+        self.assertEqual(p.State, ["Up-to-date"])
+        p.Targets = [V(NAN, 0, 0)]
+        self.doc.recompute()
+        self.assert_refused(p, "Targets")
+
+    def test_failed_make_leaves_the_document_as_it_was(self):
+        for undo_mode in (0, 1):
+            self.doc.UndoMode = undo_mode
+            names = [o.Name for o in self.doc.Objects]
+            with self.assertRaises(ValueError):
+                fd.make_area_constrain(self.box, "Face1", 900.0, dof="Sideways")
+            with self.assertRaises(TypeError):
+                fd.make_dimension_drive(self.box, "Distance", [(0, 0, 10), (0, 0, 0)], 5,
+                                        colour="red")
+            self.assertEqual([o.Name for o in self.doc.Objects], names)
+            self.assertTrue(self.box.Visibility)
+            self.assertFalse(self.doc.HasPendingTransaction)
+            self.assertIsNone(App.getActiveTransaction())
+            # a later success is one object, and one undo step where undo is on
+            s = fd.make_stretch(self.box, (V(20, 0, 0), V(1, 0, 0)), 5)
+            self.assertIsNone(App.getActiveTransaction())
+            self.doc.removeObject(s.Name)
+            self.box.Visibility = True
+
+
+if __name__ == "__main__":
+    unittest.main()
