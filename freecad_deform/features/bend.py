@@ -4,7 +4,6 @@ import numpy as np
 from ..geometry import motion as mo
 from ..geometry import space_map
 from ..geometry.bend import bend_tangents, check_bend
-from ..geometry.errors import DeformError
 from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, plane_arrays, points_from_array
 from . import flex
@@ -22,8 +21,7 @@ class Bend(DeformFeature):
         origin, normal, gap = ss.planes(obj)
         axis_point, axis_direction = plane_arrays(obj.Axis)
         angle = np.radians(obj.Angle.Value)
-        if obj.Samples < 1:
-            raise DeformError("Samples must be at least 1; raise Samples.", "Samples")
+        ss.check_samples(obj, 1)
         motion = ss.key_motion(obj, mo.rotation(axis_point, axis_direction, angle))
         if motion is not None:
             return ss.keyed(obj, kind, origin, normal, gap, motion)

@@ -60,11 +60,22 @@ def planes(obj, require_plane2=False):
     return origin, normal, parallel_gap(origin, normal, origin2, normal2)
 
 
+MAX_SAMPLES = 1000  # profiles of a sweep; the meshes' cost grows with them
+
+
+def check_samples(obj, least):
+    """Samples within [least, MAX_SAMPLES]: fewer cannot sweep, more would never finish."""
+    if not least <= obj.Samples <= MAX_SAMPLES:
+        raise DeformError(f"Samples {obj.Samples} is outside {least} to {MAX_SAMPLES}; set "
+                          f"Samples within that range.", "Samples")
+
+
 def check_crossing(solids, origin, normal, gap=None):
-    """The planes must cut the part: one that misses is bad input for Plane or Plane2."""
+    """The planes must cut the part (by more than the modelling tolerance): one that misses
+    or only touches it is bad input for Plane or Plane2."""
     lo = min(brep.extent(s, origin, normal)[0] for s in solids)
     hi = max(brep.extent(s, origin, normal)[1] for s in solids)
-    if not lo < 0 < hi:
+    if not (lo < -brep.TOL and hi > brep.TOL):
         raise DeformError("Plane misses the part: the whole part lies on one side of it; "
                           "move Plane so it crosses the part.", "Plane")
     if gap is not None and not lo < gap < hi:
@@ -170,8 +181,7 @@ def keyed(obj, kind, origin, normal, gap, motion):
     if gap is not None:
         raise DeformError("KeyPlacements move the part beyond one Plane; clear KeyPlacements "
                           "or UsePlane2.", "KeyPlacements")
-    if obj.Samples < 2:
-        raise DeformError("A key motion needs at least 2 Samples; raise Samples.", "Samples")
+    check_samples(obj, 2)
     if kind == "Points":
         pts, ignored = cloud(obj.Base)
         return points_from_array(points_sweep.sweep_points(pts, origin, normal, motion)), ignored

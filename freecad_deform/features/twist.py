@@ -28,8 +28,7 @@ class Twist(DeformFeature):
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj, require_plane2=True)
         angle = np.radians(obj.Angle.Value)
-        if obj.Samples < 2:
-            raise DeformError("A twist needs at least 2 Samples; raise Samples.", "Samples")
+        ss.check_samples(obj, 2)
         if kind in ("Mesh", "Points"):
             return self._discrete(obj, kind, origin, normal, gap, angle)
         shape = obj.Base.Shape
@@ -43,25 +42,37 @@ class Twist(DeformFeature):
 
     @staticmethod
     def _axis(obj, shape, origin, normal):
-        if obj.UseAxis:
-            return plane_arrays(obj.Axis)
-        return section_centroid(brep.solids_of(shape), origin, normal), normal
+        return given_axis(obj, normal) or (
+            section_centroid(brep.solids_of(shape), origin, normal), normal)
 
     def _discrete(self, obj, kind, origin, normal, gap, angle):
         from ..geometry import mesh_sweep, points_sweep
         if kind == "Points":
             pts, ignored = ss.cloud(obj.Base)
-            axis = plane_arrays(obj.Axis) if obj.UseAxis else (
-                _cloud_centroid(pts, origin, normal), normal)
+            axis = given_axis(obj, normal) or (_cloud_centroid(pts, origin, normal), normal)
             of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
             out = points_sweep.map_points_between(pts, origin, normal, gap, of_s)
             return points_from_array(out), ignored
         v, t = mesh_arrays(obj.Base.Mesh)
-        axis = plane_arrays(obj.Axis) if obj.UseAxis else (
+        axis = given_axis(obj, normal) or (
             section_centroid_mesh(obj.Base.Mesh, origin, normal), normal)
         of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
         return ss.mesh_result(obj.Base.Mesh, *mesh_sweep.map_between(
             v, t, origin, normal, gap, of_s, obj.Samples, mesh_eps(v)))
+
+
+def given_axis(obj, normal):
+    """(point, direction) of Axis when UseAxis, else None; a twist turns about the normal,
+    so an Axis that leaves it would tilt the far part."""
+    if not obj.UseAxis:
+        return None
+    point, direction = plane_arrays(obj.Axis)
+    tilt = np.degrees(np.arcsin(min(1.0, np.linalg.norm(np.cross(direction, normal)))))
+    if tilt > 1e-7:
+        raise DeformError(f"Axis is {tilt:.3g} degrees off the Plane normal; a twist turns "
+                          f"about the normal, so align Axis with it (or clear UseAxis).",
+                          "Axis")
+    return point, direction
 
 
 def section_centroid(solids, origin, normal):

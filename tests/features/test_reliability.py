@@ -91,6 +91,35 @@ class ReliabilityTest(unittest.TestCase):
         self.doc.recompute()
         self.assert_refused(p, "Targets")
 
+    def test_twist_axis_off_the_normal_is_refused(self):
+        t = fd.make_twist(self.box, (V(10, 0, 0), V(1, 0, 0)), (V(30, 0, 0), V(1, 0, 0)), 40,
+                          axis=(V(0, 10, 5), V(1, 0, 0)))
+        self.assertEqual(t.State, ["Up-to-date"])
+        self.assertAlmostEqual(t.Shape.BoundBox.XLength, 40, delta=1e-7)  # length kept
+        t.Axis = App.Placement(V(0, 10, 5), App.Rotation(V(0, 0, 1), V(1, 0, 1)))
+        self.doc.recompute()
+        self.assertIn("45 degrees", self.assert_refused(t, "Axis"))
+
+    def test_samples_beyond_the_bound_are_refused(self):
+        t = fd.make_twist(self.box, (V(10, 0, 0), V(1, 0, 0)), (V(30, 0, 0), V(1, 0, 0)), 40)
+        for samples in (1, 10 ** 6):
+            t.Samples = samples
+            self.doc.recompute()
+            self.assert_refused(t, "Samples")
+
+    def test_plane_at_a_cone_apex(self):
+        """1e-6 below the apex the tip moves (valid, apex at 20 + 5); within the modelling
+        tolerance (1e-8) the plane only touches the part: refused naming Plane."""
+        cone = self.doc.addObject("Part::Feature", "Cone")
+        cone.Shape = Part.makeCone(10, 0, 20)
+        s = fd.make_stretch(cone, (V(0, 0, 20 - 1e-6), V(0, 0, 1)), 5)
+        self.assertEqual(s.State, ["Up-to-date"])
+        self.assertTrue(s.Shape.isValid())
+        self.assertAlmostEqual(s.Shape.BoundBox.ZMax, 25.0, delta=1e-6)
+        s.Plane = App.Placement(V(0, 0, 20 - 1e-8), App.Rotation())
+        self.doc.recompute()
+        self.assert_refused(s, "Plane")
+
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
             self.doc.UndoMode = undo_mode
