@@ -424,6 +424,13 @@ class TestRealModels(PushCase):
         self.assertIn("Invalid", obj.State)
         self.assertIn("Element", obj.getStatusString())
         self.assertIn("degenerated", obj.getStatusString())
+        # a face pushed at that point (where its surface collapses) is refused too
+        face = next(i for i, f in enumerate(housing.Faces)
+                    if any(e.isSame(housing.Edges[index]) for e in f.Edges))
+        obj = fd.make_direct_push(base, f"Face{face + 1}", point, point + V(0, 0, 1))
+        self.assertIn("Invalid", obj.State)
+        self.assertIn("Points[0]", obj.getStatusString())
+        self.assertIn("degenerated edge", obj.getStatusString())
 
     def test_a_trimmed_face_alone_keeps_its_boundary_in_parameter_space(self):
         face = read("occt_Bottom.brep").Faces[31]
