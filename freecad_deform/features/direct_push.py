@@ -265,9 +265,12 @@ def replay(inputs, params=None):
 
 
 def _moves(before, after):
-    """The largest pole move, or nan when knots were inserted (poles not comparable)."""
+    """The largest pole move (knots inserted since are inserted into `before` too, so the
+    poles compare one to one), or nan when they cannot be."""
     if before.poles.shape != after.poles.shape:
-        return float("nan")
+        before = dp.with_knots_of(before, after)
+        if before is None or before.poles.shape != after.poles.shape:
+            return float("nan")
     return float(np.linalg.norm((after.poles - before.poles).reshape(-1, 3), axis=1).max()) \
         if after.poles.size else 0.0
 

@@ -375,6 +375,22 @@ def _insert_along(s, axis, t, times):
                                               {"vknots": knots}))
 
 
+def with_knots_of(s, other):
+    """s (a Curve or a Surface) with the knots of `other` that it lacks inserted, so their
+    poles compare one to one; None when `other` lacks some knot of s."""
+    axes = [(0, "knots")] if isinstance(s, Curve) else [(0, "uknots"), (1, "vknots")]
+    for axis, name in axes:
+        theirs = getattr(other, name)
+        if any(multiplicity(theirs, k) < multiplicity(getattr(s, name), k)
+               for k in np.unique(getattr(s, name))):
+            return None
+        for k in np.unique(theirs):
+            times = multiplicity(theirs, k)
+            s = curve_with_knot(s, k, times) if isinstance(s, Curve) else \
+                _insert_along(s, axis, k, times)
+    return s
+
+
 def _iso(a, b):
     """(axis the segment runs along, the other axis, the other parameter, lo, hi)."""
     axis = 0 if abs(a[0] - b[0]) >= abs(a[1] - b[1]) else 1

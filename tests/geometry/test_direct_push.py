@@ -378,3 +378,15 @@ def test_a_terrain_sized_net_is_pushed_locally_and_lands_to_its_scale():
     assert np.abs(scipy_point(new, uu, vv) - target).max() < 1e-12 * 1e5
     moved = np.nonzero(np.abs(new.poles - s.poles).max(axis=2))
     assert len(moved[0]) <= 25
+
+
+def test_poles_compare_after_the_same_knots_are_inserted():
+    s = c1_surface(18, 8)
+    refined = dp.refine_at(dp.refine_at(s, 0.3, 0.6), 0.31, 0.62)
+    same = dp.with_knots_of(s, refined)
+    assert same.poles.shape == refined.poles.shape
+    assert np.abs(same.poles - refined.poles).max() < 1e-12
+    assert dp.with_knots_of(refined, s) is None
+    c = wavy()
+    longer = dp.curve_with_knot(c, 0.41, 2)
+    assert np.abs(dp.with_knots_of(c, longer).poles - longer.poles).max() < 1e-12
