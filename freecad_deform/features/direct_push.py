@@ -3,9 +3,11 @@ B-spline edge or face and push it where it must go; poles and knots follow.
 
 The pushes are stored in order (Points[i] goes to Targets[i]) and replayed from the Base
 on every recompute, so each stays editable and removable. Fixed points, straight spans
-and angles are set up first; every push then respects them. A face of a solid or shell
-becomes a B-spline patch (a planar four-sided face: its exact bicubic Bezier form) whose
-border poles never move, and the solid is sewn again.
+and angles are set up first; every push then respects them. A face becomes a B-spline
+patch (a planar four-sided face: its exact bicubic Bezier form) whose border poles never
+move; a trimmed face keeps its boundary in parameter space (rebuilt on its pcurves), and
+in a solid or shell also the poles that move that boundary stay, so the face goes back
+with its own edges and the solid stays closed.
 """
 from typing import NamedTuple
 
