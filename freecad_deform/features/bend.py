@@ -96,8 +96,11 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
             near, _, far = brep.split_loose(parts, origin, normal, [0.0, gap])
         else:
             near, far = brep.split_loose(parts, origin, normal, [0.0])
-        arcs = [brep.arc(p, axis_point, axis_direction, angle)
-                for p in brep.points_on_plane(near, origin, normal)]
-        return near + arcs + brep.transformed(far, far_motion)
+        _, cut, wires = brep.split_sheet(near, origin, normal)
+        fill = [brep.arc(p, axis_point, axis_direction, angle)
+                for p in brep.points_on_plane(wires, origin, normal)]
+        if gap is None:
+            fill += brep.revolved(cut, axis_point, axis_direction, angle)
+        return brep.sheets(near + fill + brep.transformed(far, far_motion))
 
     return ss.deform_shape(shape, origin, normal, gap, solid_fn, loose_fn)

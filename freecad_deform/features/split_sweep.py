@@ -70,11 +70,11 @@ def check_samples(obj, least):
                           f"Samples within that range.", "Samples")
 
 
-def check_crossing(solids, origin, normal, gap=None):
+def check_crossing(parts, origin, normal, gap=None):
     """The planes must cut the part (by more than the modelling tolerance): one that misses
     or only touches it is bad input for Plane or Plane2."""
-    lo = min(brep.extent(s, origin, normal)[0] for s in solids)
-    hi = max(brep.extent(s, origin, normal)[1] for s in solids)
+    lo = min(brep.extent(s, origin, normal)[0] for s in parts)
+    hi = max(brep.extent(s, origin, normal)[1] for s in parts)
     if not (lo < -brep.TOL and hi > brep.TOL):
         raise DeformError("Plane misses the part: the whole part lies on one side of it; "
                           "move Plane so it crosses the part.", "Plane")
@@ -88,10 +88,11 @@ def deform_shape(shape, origin, normal, gap, solid_fn, loose_fn):
     solid_fn returns one solid or None; the result is one solid or a compound.
     """
     import Part
-    solids = brep.solids_of(shape)
-    check_crossing(solids, origin, normal, gap)
+    solids = brep.solids_of(shape, loose_allowed=True)
+    loose = brep.loose_parts(shape)
+    check_crossing(solids + loose, origin, normal, gap)
     out = [r for r in (solid_fn(s) for s in solids) if r is not None]
-    out += loose_fn(brep.loose_parts(shape))
+    out += loose_fn(loose)
     return out[0] if len(out) == 1 else Part.makeCompound(out)
 
 

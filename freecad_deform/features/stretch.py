@@ -160,7 +160,9 @@ def _stretch_loose(parts, origin, normal, distance, gap):
         return near + between + brep.translated(far, move)
     if distance > 0:
         near, far = brep.split_loose(parts, origin, normal, [0.0])
-        fill = brep.swept_points(brep.points_on_plane(near, origin, normal), move)
-        return near + fill + brep.translated(far, move)
+        _, cut, wires = brep.split_sheet(near, origin, normal)
+        fill = (brep.extruded(cut, move)
+                + brep.swept_points(brep.points_on_plane(wires, origin, normal), move))
+        return brep.sheets(near + fill + brep.translated(far, move))
     near, _, far = brep.split_loose(parts, origin, normal, [0.0, -distance])
-    return near + brep.translated(far, move)
+    return brep.sheets(near + brep.translated(far, move))

@@ -10,14 +10,15 @@ from .convert import vector  # noqa: F401  (re-exported for features)
 TOL = 1e-7
 
 
-def solids_of(shape, prop="Base"):
-    """Oriented copies of the solids of a shape; a shape without any is bad input for `prop`.
+def solids_of(shape, prop="Base", loose_allowed=False):
+    """Oriented copies of the solids of a shape; a shape without any (unless it has loose
+    faces or wires and `loose_allowed`) is bad input for `prop`.
 
     Copies, because OCCT's booleans raise the tolerances of the shapes they touch and the
     Base is only read.
     """
     solids = [oriented(s) for s in shape.Solids]
-    if not solids:
+    if not solids and not (loose_allowed and loose_parts(shape)):
         raise DeformError(f"{prop} has no solid to deform; give {prop} a solid, a compound of "
                           f"solids, a mesh or a point cloud.", prop)
     return solids
@@ -136,6 +137,34 @@ def points_on_plane(shapes, origin, normal):
                     np.linalg.norm(p - q) > TOL for q in found):
                 found.append(p)
     return found
+
+
+def split_sheet(pieces, origin, normal):
+    """(faces, edges of those faces in the plane, other pieces): loose faces cut at a plane
+    are swept by their cut edges, wires by their cut points."""
+    faces = [p for p in pieces if p.ShapeType in ("Face", "Shell")]
+    others = [p for p in pieces if p.ShapeType not in ("Face", "Shell")]
+    edges = []
+    for edge in (e for f in faces for e in f.Edges):
+        points = np.array([tuple(v.Point) for v in edge.Vertexes] + [tuple(edge.valueAt(
+            0.5 * (edge.FirstParameter + edge.LastParameter)))])
+        if np.all(np.abs((points - origin) @ normal) < TOL) and not any(
+                edge.isSame(e) for e in edges):
+            edges.append(edge)
+    return faces, edges, others
+
+
+def sheets(pieces):
+    """The face pieces sewn where they meet (a cut free face made whole again with the face
+    swept across the gap), the other pieces as they are."""
+    faces = [f for p in pieces if p.ShapeType in ("Face", "Shell") for f in p.Faces]
+    if len(faces) < 2:
+        return list(pieces)
+    sewn = Part.makeCompound(faces)
+    sewn.sewShape()
+    in_shells = {f.hashCode() for sh in sewn.Shells for f in sh.Faces}
+    return (list(sewn.Shells) + [f for f in sewn.Faces if f.hashCode() not in in_shells]
+            + [p for p in pieces if p.ShapeType not in ("Face", "Shell")])
 
 
 def swept_points(points, vec):

@@ -11,6 +11,7 @@ import unittest
 from . import fc
 
 import FreeCAD as App  # noqa: E402
+import numpy as np  # noqa: E402
 import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
@@ -119,6 +120,41 @@ class ReliabilityTest(unittest.TestCase):
         s.Plane = App.Placement(V(0, 0, 20 - 1e-8), App.Rotation())
         self.doc.recompute()
         self.assert_refused(s, "Plane")
+
+    def test_free_face_in_a_compound_is_swept_not_torn(self):
+        """A box and a free face 40 x 10 beside it: Stretch by 5 gives one sheet of area
+        45 x 10 (the strip swept by the cut edge), Bend adds the cut edge's revolved strip
+        (its length times the arc of its distance to the axis); no open gap."""
+        sheet = Part.Face(Part.makePolygon([V(0, 30, 0), V(40, 30, 0), V(40, 30, 10),
+                                            V(0, 30, 10), V(0, 30, 0)]))
+        self.box.Shape = Part.makeCompound([Part.makeBox(40, 20, 10), sheet])
+        s = fd.make_stretch(self.box, (V(20, 0, 0), V(1, 0, 0)), 5)
+        self.assertEqual(s.State, ["Up-to-date"])
+        faces = [f for f in s.Shape.Faces if abs(f.CenterOfMass.y - 30) < 1e-9]
+        self.assertAlmostEqual(sum(f.Area for f in faces), 450.0, delta=1e-9)
+        free = [e for sh in s.Shape.Shells if abs(sh.CenterOfMass.y - 30) < 1e-9
+                for e in sh.Edges if len(sh.ancestorsOfType(e, Part.Face)) == 1]
+        self.assertAlmostEqual(sum(e.Length for e in free), 2 * (45 + 10), delta=1e-9)
+        b = fd.make_bend(self.box, (V(20, 0, 0), V(1, 0, 0)), -30, (V(20, 0, 40), V(0, 1, 0)))
+        self.assertEqual(b.State, ["Up-to-date"], b.getStatusString())
+        strip = sum(f.Area for f in b.Shape.Faces if abs(f.CenterOfMass.y - 30) < 1e-9)
+        arc = np.radians(30) * (40 * 10 - 10 ** 2 / 2)  # integral of angle * (40 - z), z 0..10
+        self.assertAlmostEqual(strip, 400.0 + arc, delta=1e-6)
+
+    def test_stretch_of_free_surfaces_alone(self):
+        """A compound of B-spline surfaces and no solid (splinecage.stp): stretched, every
+        cut surface closed again by its swept strip."""
+        shape = Part.Shape()
+        shape.read(fc.testdata("splinecage.stp"))
+        self.box.Shape = shape
+        bb = shape.BoundBox
+        s = fd.make_stretch(self.box, (bb.Center, V(1, 0, 0)), 10)
+        self.assertEqual(s.State, ["Up-to-date"], s.getStatusString())
+        self.assertAlmostEqual(s.Shape.BoundBox.XLength, bb.XLength + 10, delta=1e-6)
+        before = sum(f.Area for f in shape.Faces)
+        cut = sum(e.Length for e in shape.slice(V(1, 0, 0), bb.Center.x) for e in e.Edges)
+        self.assertAlmostEqual(sum(f.Area for f in s.Shape.Faces), before + 10 * cut,
+                               delta=1e-4 * before)
 
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
