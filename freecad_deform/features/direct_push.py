@@ -125,7 +125,7 @@ def _element(shape, face):
     surface = trim = boundary = None
     if corners is not None:
         s, note = dp.bezier_patch(corners), "planar four-sided face: exact bicubic Bezier patch (Pratt)"
-    elif not bspline.trimmed(face):
+    elif bspline.natural(face):
         surface, note = bspline.bspline_of(face, "Element", checked=True)
     elif _planar_few_edges(face):
         s, note = bspline.coons_of(face, "Element")

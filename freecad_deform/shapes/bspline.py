@@ -137,26 +137,32 @@ def _surface_of(face):
 
 
 def trimmed(face):
-    """Whether the face is less than its surface over its parameter range: holes, or a
-    boundary whose pcurves leave the border of the range (a seam or a degenerated edge
-    lies on it)."""
+    """Whether the face is less than its surface over its parameter range (holes, or a
+    boundary that is not the range's; within 1e-3 of the area counts as the range's)."""
+    return len(face.Wires) != 1 or \
+        abs(Part.Face(_surface_of(face)[0]).Area - face.Area) > 1e-3 * face.Area
+
+
+def natural(face):
+    """Whether the face is exactly its surface over its parameter range: one wire whose
+    pcurves all lie on the border of the range (a seam or a degenerated edge lies on it)."""
     if len(face.Wires) != 1:
-        return True
+        return False
     u0, u1, v0, v1 = face.ParameterRange
     tol = 1e-9 * max(1.0, abs(u0), abs(u1), abs(v0), abs(v1))
     for edge in face.Edges:
         found = face.curveOnSurface(edge)
         if found is None:
-            return True
+            return False
         c2d, a, b = found
         try:
             samples = c2d.discretize(Number=16, First=a, Last=b)
         except Part.OCCError:
-            return True
+            return False
         for p in samples:
             if min(abs(p.x - u0), abs(p.x - u1), abs(p.y - v0), abs(p.y - v1)) > tol:
-                return True
-    return False
+                return False
+    return True
 
 
 def bspline_of(face, prop="Face", checked=False):
@@ -165,7 +171,7 @@ def bspline_of(face, prop="Face", checked=False):
     A non-B-spline face is converted (NurbsConvert: exact for planes, cylinders, cones,
     spheres, tori, revolved and extruded surfaces); the surface is cut to the face's
     parameter range; the face must not be trimmed by anything else (`checked`: the caller
-    knows it is not)."""
+    knows it is not: natural(face))."""
     if not checked and trimmed(face):
         raise DeformError(f"{prop} is trimmed (holes or a non-rectangular boundary); "
                           "the face must be bounded by its surface's parameter "
