@@ -14,56 +14,145 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .bspline_area import Quadrature, quadrature
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from .bspline_area import basis, find_span, quadrature, refined
 from .errors import DeformError
 
 DOFS = ("Normal", "Z", "Free")
 METHODS = ("Lagrange-Newton", "Penalty")
 MAX_ITERATIONS = 60
+MAX_VARIABLES = 2000    # the KKT system is dense: beyond this a solve takes minutes
 
 
 class Solution(NamedTuple):
     poles: np.ndarray       # (nu, nv, 3) the new poles
-    area: float             # exact area of the result
+    area: float             # area of the result
     iterations: int
     multiplier: float       # lambda: displacement = -lambda * area gradient at the optimum
     kkt: float              # |t + lambda g| / |t|: 0 when the displacement is parallel to g
+    error: float = 0.0      # estimated error of `area` (quadrature), mm^2
+    fallbacks: tuple = ()   # 1-based (i, j) of the Normal poles that use the surface normal
+    held: tuple = ()        # 1-based (i, j) of listed poles that stay with coincident ones
 
 
-def directions(poles, movable, dof):
-    """(3k, n) matrix D: pole displacements = D @ t. Free: 3 per pole; Z: z only; Normal:
-    along the control-net normal, the mean of the unit normals of the net's triangles
-    around the pole (the paper's proposal, 3.4)."""
-    k = len(movable)
-    if dof == "Free":
-        return np.eye(3 * k)
-    if dof == "Z":
-        d = np.tile([0.0, 0.0, 1.0], (k, 1))
-    elif dof == "Normal":
-        d = np.array([net_normal(poles, m) for m in movable])
-    else:
+def coincident(poles, movable):
+    """Groups of the movable poles that move as one, and the movable poles that stay.
+    Coincident poles (a collapsed row: a degenerate edge) move together so the edge stays
+    collapsed; those that coincide with a pole that does not move stay with it."""
+    P = np.asarray(poles, float).reshape(-1, 3)
+    movable = np.asarray(movable, int)
+    tol = 1e-10 * max(np.ptp(P, axis=0).max(), 1e-300)
+    pairs = cKDTree(P).query_pairs(tol, output_type="ndarray")
+    pairs = pairs[np.isin(pairs, movable).any(axis=1)]
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (len(P), len(P)))
+    _, label = connected_components(graph, directed=False)
+    fixed = np.ones(len(P), bool)
+    fixed[movable] = False
+    held_labels = set(label[fixed & np.isin(label, label[movable])])
+    groups, held = {}, []
+    for m in movable:
+        if label[m] in held_labels:
+            held.append(int(m))
+        else:
+            groups.setdefault(label[m], []).append(int(m))
+    return list(groups.values()), held
+
+
+def directions(poles, groups, dof, surface=None):
+    """(3k, n) matrix D (displacements of the poles of `groups`, in order, = D @ t; its
+    columns are orthonormal so |t| is the displacement's norm) and the poles whose Normal
+    fell back. Free: 3 per group; Z: z only; Normal: along the control-net normal, the mean
+    of the unit normals of the net's triangles around the pole (the paper's proposal,
+    3.4); where the net has none (coincident poles: a collapsed row), the surface normal
+    at the pole's Greville point, else the mean of the neighbours' net normals."""
+    if dof not in DOFS:
         raise DeformError(f"Dof must be one of {', '.join(DOFS)}.", "Dof")
-    D = np.zeros((3 * k, k))
-    D[3 * np.arange(k)[:, None] + np.arange(3), np.arange(k)[:, None]] = d
-    return D
+    fallbacks, blocks = [], []
+    for group in groups:
+        if dof == "Free":
+            d = np.eye(3)
+        elif dof == "Z":
+            d = np.array([[0.0], [0.0], [1.0]])
+        else:
+            n = next((x for x in (net_normal(poles, m) for m in group) if x is not None),
+                     None)
+            if n is None:
+                n = fallback_normal(poles, group[0], surface)
+                fallbacks += [tuple(int(x) + 1 for x in divmod(m, poles.shape[1]))
+                              for m in group]
+            d = n[:, None]
+        blocks.append((group, d / np.sqrt(len(group))))
+    k = sum(len(g) for g, _ in blocks)
+    D = np.zeros((3 * k, sum(d.shape[1] for _, d in blocks)))
+    row = col = 0
+    for group, d in blocks:
+        for _ in group:
+            D[row:row + 3, col:col + d.shape[1]] = d
+            row += 3
+        col += d.shape[1]
+    return D, tuple(sorted(fallbacks))
 
 
 def net_normal(poles, flat_index):
     """Unit mean normal of the control-net triangles around a pole, oriented like
-    S_u x S_v (u along the first pole index)."""
+    S_u x S_v (u along the first pole index); None where every triangle is degenerate."""
     nu, nv, _ = poles.shape
     i, j = divmod(int(flat_index), nv)
     P = poles
     total = np.zeros(3)
+    scale = np.abs(P).max()
     for di, dj, ei, ej in ((1, 0, 0, 1), (0, 1, -1, 0), (-1, 0, 0, -1), (0, -1, 1, 0)):
         a, b = (i + di, j + dj), (i + ei, j + ej)
         if 0 <= a[0] < nu and 0 <= a[1] < nv and 0 <= b[0] < nu and 0 <= b[1] < nv:
             n = np.cross(P[a] - P[i, j], P[b] - P[i, j])
-            if np.linalg.norm(n) > 0:
+            if np.linalg.norm(n) > 1e-24 * scale ** 2:
                 total += n / np.linalg.norm(n)
-    if np.linalg.norm(total) == 0:
-        raise DeformError(f"Pole ({i + 1}, {j + 1}) has no control-net normal; use Dof Z "
-                          "or Free.", "Dof")
+    length = np.linalg.norm(total)
+    return total / length if length > 1e-12 else None
+
+
+def surface_normal(surface, u, v):
+    """Unit S_u x S_v of a Surface at (u, v); None where it vanishes."""
+    s = surface
+    iu, iv = find_span(s.uknots, s.udegree, [u]), find_span(s.vknots, s.vdegree, [v])
+    Nu, dNu = basis(s.uknots, s.udegree, iu, [u])
+    Nv, dNv = basis(s.vknots, s.vdegree, iv, [v])
+    rows = iu[0] - s.udegree + np.arange(s.udegree + 1)
+    cols = iv[0] - s.vdegree + np.arange(s.vdegree + 1)
+    w = s.weights[np.ix_(rows, cols)]
+    P = np.concatenate([w[..., None] * s.poles[np.ix_(rows, cols)], w[..., None]], -1)
+    A, Au, Av = (np.einsum("a,b,abc->c", x[0], y[0], P)
+                 for x, y in ((Nu, Nv), (dNu, Nv), (Nu, dNv)))
+    Su, Sv = Au[:3] * A[3] - Au[3] * A[:3], Av[:3] * A[3] - Av[3] * A[:3]
+    n = np.cross(Su, Sv)
+    size = np.linalg.norm(Su) * np.linalg.norm(Sv)
+    return n / np.linalg.norm(n) if np.linalg.norm(n) > 1e-9 * size > 0 else None
+
+
+def greville(knots, degree, index):
+    return float(np.mean(np.asarray(knots, float)[index + 1:index + degree + 1]))
+
+
+def fallback_normal(poles, flat_index, surface):
+    """The normal of a pole the control net gives none: the surface's at the pole's
+    Greville point, else the mean of its neighbours' net normals."""
+    nu, nv, _ = poles.shape
+    i, j = divmod(int(flat_index), nv)
+    if surface is not None:
+        s = surface._replace(poles=poles)
+        n = surface_normal(s, greville(s.uknots, s.udegree, i),
+                           greville(s.vknots, s.vdegree, j))
+        if n is not None:
+            return n
+    near = [net_normal(poles, a * nv + b) for a in range(max(i - 1, 0), min(i + 2, nu))
+            for b in range(max(j - 1, 0), min(j + 2, nv)) if (a, b) != (i, j)]
+    total = np.sum([n for n in near if n is not None] or [np.zeros(3)], axis=0)
+    if np.linalg.norm(total) <= 1e-12:
+        raise DeformError(f"Pole ({i + 1}, {j + 1}) has no normal (control net and surface "
+                          "degenerate there); use Dof Z or Free.", "Dof")
     return total / np.linalg.norm(total)
 
 
@@ -73,8 +162,12 @@ class Problem:
     def __init__(self, quadrature, poles, movable, dof):
         self.q = quadrature
         self.Q = np.asarray(poles, float)
-        self.movable = np.asarray(movable, int)
-        self.D = directions(self.Q, self.movable, dof)
+        groups, self.held = coincident(self.Q, movable)
+        if not groups:
+            raise DeformError("Every pole in Poles coincides with a pole that stays (a "
+                              "collapsed edge); list other poles.", "Poles")
+        self.movable = np.array([m for g in groups for m in g], int)
+        self.D, self.fallbacks = directions(self.Q, groups, dof, quadrature.surface)
 
     def poles(self, t):
         P = self.Q.reshape(-1, 3).copy()
@@ -97,11 +190,13 @@ def _converged(t, lam, g, c, target):
     return abs(c) <= 1e-14 * target and stationary
 
 
-def lagrange_newton(problem, target):
+def lagrange_newton(problem, target, start=None):
     """Newton on grad L = 0 (L = 1/2 |t|^2 + lambda (Area - target)) with an l1 merit line
-    search and a second-order correction; raises DeformError when it stalls."""
+    search and a second-order correction, from `start` (t, lambda) or 0; raises DeformError
+    when it stalls."""
     n = problem.D.shape[1]
-    t, lam, mu = np.zeros(n), 0.0, 0.0
+    t, lam = (np.zeros(n), 0.0) if start is None else start
+    mu = 0.0
     for it in range(1, MAX_ITERATIONS + 1):
         a, g = problem.gradient(t)
         c = a - target
@@ -219,17 +314,30 @@ def _stalled(problem, target):
                        "Poles or choose another Dof.", "TargetArea")
 
 
-def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lagrange-Newton"):
+def _check_size(movable, dof):
+    variables = len(movable) * (3 if dof == "Free" else 1)
+    if variables > MAX_VARIABLES:
+        raise DeformError(f"{len(movable)} poles with Dof {dof} are {variables} variables, "
+                          f"more than the {MAX_VARIABLES} this dense solver takes; list in "
+                          "Poles the poles of the region to change.", "Poles")
+
+
+def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lagrange-Newton",
+                   start=None):
     """Move the `movable` poles (flat indices into poles (nu, nv, 3)) along `dof` as little
-    as possible so the area is `target`."""
+    as possible so the area is `target`; `start`: an earlier Solution to go on from."""
     if len(movable) == 0:
         raise DeformError("No pole may move; list Poles (or leave it empty for every "
                           "interior pole of a surface that has some).", "Poles")
     if not target > 0:
         raise DeformError("TargetArea must be positive.", "TargetArea")
+    _check_size(movable, dof)
     problem = Problem(quadrature, poles, movable, dof)
     if method == "Lagrange-Newton":
-        t, lam, iterations = lagrange_newton(problem, target)
+        if start is not None:   # D has orthonormal columns: t = D^T (displacement)
+            moved = (start.poles - problem.Q).reshape(-1, 3)[problem.movable].ravel()
+            start = (problem.D.T @ moved, start.multiplier)
+        t, lam, iterations = lagrange_newton(problem, target, start)
     elif method == "Penalty":
         t, lam, iterations = penalty_newton(problem, target)
     else:
@@ -237,17 +345,22 @@ def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lag
     _, g = problem.gradient(t)
     kkt = np.linalg.norm(t + lam * g) / max(np.linalg.norm(t), 1e-300)
     new = problem.poles(t)
-    return Solution(new, quadrature.area(new), iterations, lam, float(kkt))
+    held = tuple(tuple(int(x) + 1 for x in divmod(m, new.shape[1])) for m in problem.held)
+    return Solution(new, quadrature.area(new), iterations, lam, float(kkt), quadrature.error,
+                    problem.fallbacks, held)
 
 
 def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagrange-Newton"):
-    """constrain_area on a Surface, with a quadrature exact for the result too: the node
-    count is chosen on the original surface, checked on the new one, and the solve is
-    repeated with more nodes when the new shape needs them."""
-    q = quadrature(surface)
-    while True:
-        sol = constrain_area(q, surface.poles, movable, target, dof, method)
-        check = quadrature(surface._replace(poles=sol.poles))
-        if check.count <= q.count:
-            return sol
-        q = Quadrature(surface, check.count)
+    """constrain_area on a Surface, with a quadrature that holds for the result too: the
+    nodes are chosen on the original surface, checked on the new one (`error` is that
+    check's estimate), and the solve is repeated on the finer nodes the new shape needs."""
+    _check_size(movable, dof)
+    q = quadrature(surface, movable)
+    sol, iterations = None, 0
+    for _ in range(MAX_ITERATIONS):
+        sol = constrain_area(q, surface.poles, movable, target, dof, method, sol)
+        iterations += sol.iterations
+        q, finer = refined(q, sol.poles)
+        if not finer:
+            return sol._replace(error=q.error, iterations=iterations)
+    raise _stalled(Problem(q, surface.poles, movable, dof), target)

@@ -1,20 +1,28 @@
 """Exact area of a (rational) B-spline surface and its derivatives with respect to the poles
 (Xu, Joneja & Tang 2009, eq. 3-6).
 
-The surface is linear in its poles: S(u, v) = sum R_ij(u, v) P_ij with the (rational)
-basis R, so S_u and S_v at the quadrature points are sparse matrices Ru, Rv times the
-poles. The area is sum_k w_k |S_u x S_v| over Gauss-Legendre nodes on every knot span,
-with as many nodes as it takes to stop changing in the last digits. Gradient and Hessian
-are the paper's integrands, vectorised: sparse products over the quadrature points.
+The area is the integral of |S_u x S_v| over the parameter rectangle. Every knot-span cell is
+integrated by tensor Gauss-Legendre with NODES and 2 * NODES nodes per direction; a cell
+where the two disagree by more than its share of the tolerance is split into four, and so
+on. Where |S_u x S_v| vanishes (a collapsed pole row, a degenerate corner) the integrand is
+not smooth and doubling the nodes converges slowly; the splitting grades the cells
+geometrically toward such points instead. The value kept is the NODES rule's and the
+difference is its error estimate (the finer rule converges much faster); the sum over the
+cells is the reported error.
+
+The surface is linear in its poles: at each point S_u = sum Ru_m P_m over the (p+1)(q+1)
+poles of its cell, so gradient and Hessian are sums of small dense blocks per cell.
 """
 from typing import NamedTuple
 
 import numpy as np
-from scipy.interpolate import BSpline
-from scipy.sparse import bsr_matrix, csr_matrix, diags, kron
+from scipy.sparse import csr_matrix
 
-MAX_NODES = 48          # Gauss-Legendre nodes per knot span, at most
-DENSE_POLES = 32        # up to this many movable poles the Hessian is assembled densely
+NODES = 10              # Gauss-Legendre nodes per direction of the kept rule (check: twice)
+HESSIAN_NODES = 5       # nodes per direction for the Hessian
+MAX_DEPTH = 48          # halvings of a knot-span cell, at most
+RTOL = 1e-14            # the area's relative tolerance
+CHUNK = 4096            # cells evaluated at once (bounds memory on large surfaces)
 
 
 class Surface(NamedTuple):
@@ -26,96 +34,287 @@ class Surface(NamedTuple):
     vdegree: int
 
 
-def _nodes(knots, degree, count):
-    """Gauss-Legendre nodes and weights on every non-empty span of the knot vector."""
-    x, w = np.polynomial.legendre.leggauss(count)
-    k = np.unique(knots[degree:len(knots) - degree])
-    a, b = k[:-1], k[1:]
-    half = 0.5 * (b - a)
-    return ((a + b)[:, None] / 2 + half[:, None] * x).ravel(), (half[:, None] * w).ravel()
+def spans(knots, degree):
+    """Break points of the parameter range and, per interval, the knot span index s with
+    knots[s] <= x < knots[s + 1]."""
+    k = np.asarray(knots, float)
+    b = np.unique(k[degree:len(k) - degree])
+    return b, np.searchsorted(k, b[:-1], side="right") - 1
 
 
-def _basis(knots, degree, n, x):
-    """Values and first derivatives (len(x), n) of the n B-spline basis functions at x."""
-    b = BSpline(knots, np.eye(n), degree, extrapolate=False)
-    return np.nan_to_num(b(x)), np.nan_to_num(b.derivative()(x))
+def find_span(knots, degree, x):
+    """Knot span index of each x (the last non-empty span for x at the end)."""
+    b, s = spans(knots, degree)
+    return s[np.clip(np.searchsorted(b, x, side="right") - 1, 0, len(s) - 1)]
 
 
-class Quadrature:
-    """The surface's derivative matrices at the quadrature nodes: S_u = Ru @ poles,
-    S_v = Rv @ poles (poles flattened row-major, (nu * nv, 3)), and the node weights."""
+def basis(knots, degree, span, x):
+    """Values and first derivatives (m, degree + 1) of the B-splines N_{span - degree + a},
+    a = 0..degree, at x (m,) with span (m,) (de Boor's recurrence, vectorised)."""
+    t = np.asarray(knots, float)
+    x = np.asarray(x, float)[:, None]
+    span = np.asarray(span)[:, None]
+    N = np.ones((len(x), 1))
+    lower = N
+    for j in range(1, degree + 1):
+        r = np.arange(1, j + 1)
+        left, right = x - t[span + 1 - r], t[span + r] - x
+        new = np.zeros((len(x), j + 1))
+        saved = np.zeros(len(x))
+        for k in range(j):
+            temp = N[:, k] / (right[:, k] + left[:, j - 1 - k])
+            new[:, k] = saved + right[:, k] * temp
+            saved = left[:, j - 1 - k] * temp
+        new[:, j] = saved
+        lower, N = N, new
+    d = np.zeros_like(N)
+    if degree:
+        i = span - degree + np.arange(degree + 1)
+        a = t[i[:, 1:] + degree] - t[i[:, 1:]]
+        b = t[i[:, :-1] + degree + 1] - t[i[:, :-1] + 1]
+        d[:, 1:] += degree * lower / a
+        d[:, :-1] -= degree * lower / b
+    return N, d
 
-    def __init__(self, surface, count):
-        s = surface
-        nu, nv = s.weights.shape
-        u, wu = _nodes(s.uknots, s.udegree, count)
-        v, wv = _nodes(s.vknots, s.vdegree, count)
-        Nu, dNu = (csr_matrix(m) for m in _basis(s.uknots, s.udegree, nu, u))
-        Nv, dNv = (csr_matrix(m) for m in _basis(s.vknots, s.vdegree, nv, v))
-        w = s.weights.ravel()
-        Ru, Rv = kron(dNu, Nv, format="csr"), kron(Nu, dNv, format="csr")
-        if np.any(w != 1):  # rational: R_ij = N_i N_j w_ij / W, differentiated
-            R = kron(Nu, Nv, format="csr")
-            W, Wu, Wv = R @ w, Ru @ w, Rv @ w
-            scale = diags(w)
-            Ru = (diags(1 / W) @ Ru @ scale - diags(Wu / W**2) @ R @ scale).tocsr()
-            Rv = (diags(1 / W) @ Rv @ scale - diags(Wv / W**2) @ R @ scale).tocsr()
-        self.Ru, self.Rv = Ru, Rv
-        self.weights = np.outer(wu, wv).ravel()
-        self.count = count
+
+class Rects(NamedTuple):
+    """Parameter rectangles, each inside the knot-span cell (su, sv)."""
+    u0: np.ndarray
+    u1: np.ndarray
+    v0: np.ndarray
+    v1: np.ndarray
+    su: np.ndarray
+    sv: np.ndarray
+    depth: np.ndarray
+
+    def take(self, mask):
+        return Rects(*(a[mask] for a in self))
+
+    def split(self):
+        """Each rectangle as its four quarters."""
+        um, vm = (self.u0 + self.u1) / 2, (self.v0 + self.v1) / 2
+        parts = [Rects(a, b, c, d, self.su, self.sv, self.depth + 1)
+                 for a, b in ((self.u0, um), (um, self.u1))
+                 for c, d in ((self.v0, vm), (vm, self.v1))]
+        return Rects(*(np.concatenate(a) for a in zip(*parts)))
+
+    @staticmethod
+    def join(parts):
+        return Rects(*(np.concatenate(a) for a in zip(*parts)))
+
+
+def cells(surface):
+    """Every knot-span cell as a Rects."""
+    s = surface
+    bu, su = spans(s.uknots, s.udegree)
+    bv, sv = spans(s.vknots, s.vdegree)
+    i, j = np.meshgrid(np.arange(len(su)), np.arange(len(sv)), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    return Rects(bu[i], bu[i + 1], bv[j], bv[j + 1], su[i], sv[j], np.zeros(len(i), int))
+
+
+def _rule(rects, surface, n):
+    """Per rectangle: the n x n Gauss-Legendre nodes' weights (R, n, n) and the local basis
+    values Nu, dNu (R, n, p+1), Nv, dNv (R, n, q+1)."""
+    s = surface
+    x, w = np.polynomial.legendre.leggauss(n)
+    R = len(rects.u0)
+    hu, hv = (rects.u1 - rects.u0) / 2, (rects.v1 - rects.v0) / 2
+    u = (rects.u0 + hu)[:, None] + hu[:, None] * x
+    v = (rects.v0 + hv)[:, None] + hv[:, None] * x
+    Nu, dNu = basis(s.uknots, s.udegree, np.repeat(rects.su, n), u.ravel())
+    Nv, dNv = basis(s.vknots, s.vdegree, np.repeat(rects.sv, n), v.ravel())
+    shape_u, shape_v = (R, n, s.udegree + 1), (R, n, s.vdegree + 1)
+    weights = (hu[:, None] * w)[:, :, None] * (hv[:, None] * w)[:, None, :]
+    return weights, Nu.reshape(shape_u), dNu.reshape(shape_u), Nv.reshape(shape_v), \
+        dNv.reshape(shape_v)
+
+
+def _local(rects, surface, poles):
+    """The (p+1) x (q+1) poles of each rectangle's cell, homogeneous (w P, w) when rational:
+    (R, p+1, q+1, 3 or 4)."""
+    s = surface
+    i = rects.su[:, None] - s.udegree + np.arange(s.udegree + 1)
+    j = rects.sv[:, None] - s.vdegree + np.arange(s.vdegree + 1)
+    P = np.asarray(poles, float).reshape(s.weights.shape + (3,))[i[:, :, None], j[:, None, :]]
+    if np.all(s.weights == 1):
+        return P
+    w = s.weights[i[:, :, None], j[:, None, :]][..., None]
+    return np.concatenate([w * P, w], -1)
+
+
+def _tangents(rule, P):
+    """S_u, S_v (R, n, n, 3) at the rule's nodes from the local poles P."""
+    _, Nu, dNu, Nv, dNv = rule
+    A = np.einsum("ria,rabc->ribc", Nu, P)
+    Au = np.einsum("ria,rabc->ribc", dNu, P)
+    Su = np.einsum("ribc,rjb->rijc", Au, Nv)
+    Sv = np.einsum("ribc,rjb->rijc", A, dNv)
+    if P.shape[-1] == 3:
+        return Su, Sv
+    S = np.einsum("ribc,rjb->rijc", A, Nv)
+    W = S[..., 3:]
+    return (Su[..., :3] - Su[..., 3:] * S[..., :3] / W) / W, \
+        (Sv[..., :3] - Sv[..., 3:] * S[..., :3] / W) / W
+
+
+def rect_areas(rects, surface, poles, n):
+    """Area of each rectangle by the n x n Gauss-Legendre rule."""
+    out = np.empty(len(rects.u0))
+    for start in range(0, len(out), CHUNK):
+        part = rects.take(slice(start, start + CHUNK))
+        rule = _rule(part, surface, n)
+        Su, Sv = _tangents(rule, _local(part, surface, poles))
+        out[start:start + CHUNK] = np.einsum(
+            "rij,rij->r", rule[0], np.linalg.norm(np.cross(Su, Sv), axis=-1))
+    return out
+
+
+def adapt(rects, surface, poles, tolerance):
+    """Split rectangles until the NODES and 2 * NODES rules agree within tolerance(rects,
+    fine areas) each (or MAX_DEPTH is reached): (accepted Rects, their NODES-rule areas,
+    the differences: the estimated errors of those)."""
+    done, values, errors = [], [], []
+    while len(rects.u0):
+        coarse = rect_areas(rects, surface, poles, NODES)
+        fine = rect_areas(rects, surface, poles, 2 * NODES)
+        err = np.abs(fine - coarse)
+        ok = (err <= tolerance(rects, fine)) | (rects.depth >= MAX_DEPTH)
+        done.append(rects.take(ok))
+        values.append(coarse[ok])
+        errors.append(err[ok])
+        rects = rects.take(~ok).split()
+    return Rects.join(done), np.concatenate(values), np.concatenate(errors)
+
+
+class Nodes(NamedTuple):
+    """Quadrature nodes, sorted by cell: S_u = sum Ru[k] P[index[k]] (Ru: (K, L) local
+    coefficients of the L = (p+1)(q+1) poles of the node's cell), likewise S_v."""
+    Ru: np.ndarray
+    Rv: np.ndarray
+    index: np.ndarray
+    weights: np.ndarray
+    cell_starts: np.ndarray
+    Su: csr_matrix      # Ru and Rv as sparse (K, poles) matrices
+    Sv: csr_matrix
 
     def tangents(self, poles):
         P = np.asarray(poles, float).reshape(-1, 3)
-        return self.Ru @ P, self.Rv @ P
+        return self.Su @ P, self.Sv @ P
+
+    def normal(self, poles):
+        """S_u, S_v, f = |S_u x S_v|, the unit normal and 1 / f (0 where f vanishes)."""
+        Su, Sv = self.tangents(poles)
+        cross = np.cross(Su, Sv)
+        f = np.linalg.norm(cross, axis=1)
+        inv = np.divide(1.0, f, out=np.zeros_like(f), where=f > 0)
+        return Su, Sv, f, cross * inv[:, None], inv
+
+
+def nodes(surface, rects, n):
+    """The Nodes of the n x n rule on each rectangle (rects sorted by cell)."""
+    s = surface
+    weights, Nu, dNu, Nv, dNv = _rule(rects, s, n)
+    L = (s.udegree + 1) * (s.vdegree + 1)
+
+    def outer(a, b):      # (R, n, pu) x (R, n, pv) -> (R * n * n, L)
+        return np.einsum("ria,rjb->rijab", a, b).reshape(-1, L)
+    Ru, Rv = outer(dNu, Nv), outer(Nu, dNv)
+    i = rects.su[:, None] - s.udegree + np.arange(s.udegree + 1)
+    j = rects.sv[:, None] - s.vdegree + np.arange(s.vdegree + 1)
+    index = (i[:, :, None] * s.weights.shape[1] + j[:, None, :]).reshape(len(i), 1, 1, L)
+    index = np.broadcast_to(index, (len(i), n, n, L)).reshape(-1, L)
+    w = s.weights.ravel()[index]
+    if np.any(w != 1):   # rational: R = N w / W, differentiated
+        R = outer(Nu, Nv) * w
+        W, Wu, Wv = R.sum(1), (Ru * w).sum(1), (Rv * w).sum(1)
+        Ru = (Ru * w - R * (Wu / W)[:, None]) / W[:, None]
+        Rv = (Rv * w - R * (Wv / W)[:, None]) / W[:, None]
+    cell = np.repeat(rects.su * (1 + rects.sv.max(initial=0)) + rects.sv, n * n)
+    starts = np.flatnonzero(np.r_[True, cell[1:] != cell[:-1]]) if len(cell) else \
+        np.zeros(0, int)
+    K, size = len(index), s.weights.size
+    indptr = np.arange(0, K * L + 1, L)
+    return Nodes(Ru, Rv, index, weights.ravel(), starts,
+                 *(csr_matrix((R.ravel(), index.ravel(), indptr), (K, size)) for R in (Ru, Rv)))
+
+
+class Quadrature:
+    """The area as a fixed part (the cells no movable pole touches) plus a sum over the
+    nodes of the other cells (`nodes`); the Hessian, which only steers Newton, uses the
+    lighter HESSIAN_NODES rule on the same rectangles (`light`)."""
+
+    def __init__(self, surface, rects, fixed, active_error, per_area, active):
+        self.surface = surface
+        self.fixed_parts = fixed
+        self.fixed, self.error = fixed[0], fixed[1] + active_error
+        self.per_area, self.active = per_area, active
+        self.rects = rects.take(np.lexsort((rects.sv, rects.su)))
+        self.nodes = nodes(surface, self.rects, NODES)
+        self.light = nodes(surface, self.rects, HESSIAN_NODES)
+
+    @property
+    def count(self):
+        """Quadrature nodes that depend on the movable poles."""
+        return len(self.nodes.weights)
+
+    def tangents(self, poles):
+        return self.nodes.tangents(poles)
 
     def area(self, poles):
         Su, Sv = self.tangents(poles)
-        return float(self.weights @ np.linalg.norm(np.cross(Su, Sv), axis=1))
+        return self.fixed + float(self.nodes.weights @ np.linalg.norm(np.cross(Su, Sv), axis=1))
 
     def gradient(self, poles, movable):
         """(area, d area / d pole (len(movable), 3)) for the flat pole indices `movable`:
         d f / d P_m = Ru_m (S_v x n) + Rv_m (n x S_u), n the unit normal (eq. 3)."""
-        Su, Sv = self.tangents(poles)
-        cross = np.cross(Su, Sv)
-        f = np.linalg.norm(cross, axis=1)
-        n = cross / f[:, None]
-        w = self.weights[:, None]
-        g = self.Ru[:, movable].T @ (w * np.cross(Sv, n)) + self.Rv[:, movable].T @ (
-            w * np.cross(n, Su))
-        return float(self.weights @ f), np.asarray(g)
+        q = self.nodes
+        Su, Sv, f, n, _ = q.normal(poles)
+        w = q.weights[:, None]
+        a, b = w * np.cross(Sv, n), w * np.cross(n, Su)
+        g = q.Su.T @ a + q.Sv.T @ b
+        return self.fixed + float(q.weights @ f), np.asarray(g)[np.asarray(movable, int)]
 
     def hessian(self, poles, movable):
         """d2 area / d pole coordinates (3k, 3k), index 3 * m + c (eq. 4-6):
-        (1/f) dn_a . (I - n n^T) dn_b + n . d2n_ab, with dn = (Rv_m [S_u]x - Ru_m [S_v]x) e_c."""
-        Su, Sv = self.tangents(poles)
-        cross = np.cross(Su, Sv)
-        f = np.linalg.norm(cross, axis=1)
-        n = cross / f[:, None]
-        A, B, N = _skew(Su), _skew(Sv), _skew(n)
-        Pi = np.eye(3) - n[:, :, None] * n[:, None, :]
-        s = (self.weights / f)[:, None, None]
-        w = self.weights[:, None, None]
-        t = np.transpose
-        coef = {("u", "u"): s * t(B, (0, 2, 1)) @ Pi @ B,
-                ("v", "v"): s * t(A, (0, 2, 1)) @ Pi @ A,
-                ("u", "v"): -s * t(B, (0, 2, 1)) @ Pi @ A - w * N,
-                ("v", "u"): -s * t(A, (0, 2, 1)) @ Pi @ B + w * N}
+        (1/f) dn_a . (I - n n^T) dn_b + n . d2n_ab, with dn = (Rv_m [S_u]x - Ru_m [S_v]x) e_c,
+        summed cell by cell as dense (L, 3, L, 3) blocks."""
+        q = self.light
+        Su, Sv, f, n, inv = q.normal(poles)
+        s, w = q.weights * inv, q.weights
+
+        def outer(a, b):
+            return a[:, :, None] * b[:, None, :]
+        nn = outer(n, n)
+        # [S_v]x^T (I - n n^T) [S_v]x = |S_v|^2 n n^T (S_v is orthogonal to n), and so on
+        uv = s[:, None, None] * (outer(Su, Sv) - np.einsum("k,ij->kij", (Su * Sv).sum(1),
+                                                            np.eye(3))
+                                 + outer(np.cross(Sv, n), np.cross(Su, n))) - \
+            w[:, None, None] * _skew(n)
+        coef = (("u", "u", (s * (Sv * Sv).sum(1))[:, None, None] * nn),
+                ("v", "v", (s * (Su * Su).sum(1))[:, None, None] * nn),
+                ("u", "v", uv), ("v", "u", np.transpose(uv, (0, 2, 1))))
+        R = {"u": q.Ru, "v": q.Rv}
+        movable = np.asarray(movable, int)
         k = len(movable)
-        if k <= DENSE_POLES:  # few poles: dense per-point products are cheapest
-            D = {"u": self.Ru[:, movable].toarray(), "v": self.Rv[:, movable].toarray()}
-            H = np.zeros((k, 3, k, 3))
-            for (a, b), c in coef.items():
-                for i in range(3):
-                    for j in range(3):
-                        H[:, i, :, j] += D[a].T @ (c[:, i, j, None] * D[b])
-            return H.reshape(3 * k, 3 * k)
-        # with J_a = kron(R_a[:, movable], I3): H = sum over a, b of J_a^T blockdiag(c_ab) J_b
-        J = {a: kron(R[:, movable], np.eye(3), format="csr")
-             for a, R in (("u", self.Ru), ("v", self.Rv))}
-        m = len(f)
-        H = sum(J[a].T @ bsr_matrix((c, np.arange(m), np.arange(m + 1)), shape=(3 * m, 3 * m))
-                @ J[b] for (a, b), c in coef.items())
-        return H.toarray()
+        position = np.full(np.asarray(poles).size // 3, -1)
+        position[movable] = np.arange(k)
+        H = np.zeros((k, 3, k, 3))
+        ends = np.r_[q.cell_starts[1:], len(f)]
+        for start, end in zip(q.cell_starts, ends):
+            local = position[q.index[start]]
+            keep = np.flatnonzero(local >= 0)
+            if not len(keep):
+                continue
+            m = len(keep)
+            block = np.zeros((m * 9, m))
+            for a, b, c in coef:    # sum_k R_a[k, i] c[k] R_b[k, j] as one matrix product
+                left = R[a][start:end, keep][:, :, None] * c[start:end].reshape(-1, 1, 9)
+                block += left.reshape(end - start, -1).T @ R[b][start:end, keep]
+            g = local[keep]
+            H[np.ix_(g, range(3), g, range(3))] += \
+                block.reshape(m, 3, 3, m).transpose(0, 1, 3, 2)
+        return H.reshape(3 * k, 3 * k)
 
 
 def _skew(x):
@@ -126,15 +325,60 @@ def _skew(x):
                      np.stack([-x[:, 1], x[:, 0], z], -1)], 1)
 
 
-def quadrature(surface, rtol=1e-14):
-    """A Quadrature with enough nodes per span that doubling them changes the area by less
-    than `rtol` (relative): machine precision, where OCCT's Face.Area gives about 1e-4."""
-    q = Quadrature(surface, max(surface.udegree, surface.vdegree) + 2)
-    a = q.area(surface.poles)
-    while q.count < MAX_NODES:
-        finer = Quadrature(surface, min(2 * q.count, MAX_NODES))
-        b = finer.area(surface.poles)
-        if abs(b - a) <= rtol * abs(b):
-            return q
-        q, a = finer, b
-    return q
+def touched(rects, surface, movable):
+    """Which rectangles lie in a cell whose value depends on a pole in `movable`."""
+    s = surface
+    nu, nv = s.weights.shape
+    mask = np.zeros((nu, nv), bool)
+    mask.ravel()[np.asarray(movable, int)] = True
+    # cells (su, sv) depend on poles su - p..su, sv - q..sv: a windowed any()
+    c = np.cumsum(np.cumsum(np.pad(mask, ((1, 0), (1, 0))).astype(int), 0), 1)
+    i0, i1 = rects.su - s.udegree, rects.su + 1
+    j0, j1 = rects.sv - s.vdegree, rects.sv + 1
+    return (c[i1, j1] - c[i0, j1] - c[i1, j0] + c[i0, j0]) > 0
+
+
+def quadrature(surface, movable=None, rtol=RTOL):
+    """A Quadrature whose area is within rtol (relative) of the exact area, estimated: the
+    cells are split until the coarse and fine rules agree within their share of the
+    tolerance (by parameter area, or by the cell's own area where that is larger).
+    `movable`: the flat pole indices that may change (None: all); the other cells are
+    summed once into a fixed part."""
+    s = surface
+    start = cells(s)
+    estimate = rect_areas(start, s, s.poles, 2 * NODES)
+    total = float(np.sum(estimate))
+    size = (s.uknots[-s.udegree - 1] - s.uknots[s.udegree]) * \
+        (s.vknots[-s.vdegree - 1] - s.vknots[s.vdegree])
+    per_area = rtol * total / size
+    rects, values, errors = adapt(start, s, s.poles, _tolerance(per_area, rtol))
+    return _build(s, rects, values, errors, per_area, movable)
+
+
+def _tolerance(per_area, rtol):
+    def tolerance(rects, fine):
+        return np.maximum(per_area * (rects.u1 - rects.u0) * (rects.v1 - rects.v0),
+                          rtol * np.abs(fine))
+    return tolerance
+
+
+def _build(surface, rects, values, errors, per_area, movable, fixed=None):
+    """The Quadrature of accepted rectangles; `fixed`: (area, error) of the cells no
+    movable pole touches, when already known."""
+    active = np.ones(len(rects.u0), bool) if movable is None else \
+        touched(rects, surface, movable)
+    if fixed is None:
+        fixed = (float(np.sum(values[~active])), float(np.sum(errors[~active])))
+    return Quadrature(surface, rects.take(active), fixed, float(np.sum(errors[active])),
+                      per_area, movable)
+
+
+def refined(q, poles, rtol=RTOL):
+    """(Quadrature for the surface with `poles`, whether it needed more nodes than q): q's
+    rectangles checked with the new poles (only movable ones changed) and split further
+    where the rules disagree; the error estimate is the new one."""
+    s = q.surface._replace(poles=np.asarray(poles, float).reshape(q.surface.poles.shape))
+    rects, values, errors = adapt(q.rects, s, s.poles, _tolerance(q.per_area, rtol))
+    new = _build(s, rects, values, errors, q.per_area, None, q.fixed_parts)
+    new.active = q.active
+    return new, len(rects.u0) != len(q.rects.u0)

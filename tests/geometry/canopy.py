@@ -28,3 +28,24 @@ def cylinder_patch(radius=5.0, height=20.0):
     weights = np.array([[1, 1], [w, w], [1, 1]], float)
     return Surface(poles, weights, np.array([0, 0, 0, 1, 1, 1.0]), np.array([0, 0, 1, 1.0]),
                    2, 1)
+
+
+def c1_knots(n, degree=3):
+    """Clamped knots with every inner knot doubled (C1 bicubic, as IGES surfaces often are)."""
+    inner = np.linspace(0, 1, (n - degree - 1) // 2 + 2)[1:-1]
+    return np.concatenate([np.zeros(degree + 1), np.repeat(inner, 2), np.ones(degree + 1)])
+
+
+def hood(nu=18, nv=8, collapsed=2):
+    """A C1 bicubic hood (nu x nv poles, inner knots doubled) whose first `collapsed` pole
+    rows are one point: the edge u = 0 is degenerate and the patch triangular there. At
+    the corner (u, v) = (1, 0) S_u and S_v are parallel (the corner is flattened to 180
+    degrees), so |S_u x S_v| vanishes there like the distance to the corner."""
+    s, t = np.linspace(0, 1, nu), np.linspace(-1, 1, nv)
+    S, T = np.meshgrid(s, t, indexing="ij")
+    width = 40 * np.sqrt(np.maximum(S - s[collapsed - 1], 0) / (1 - s[collapsed - 1]))
+    z = 30 * np.sin(np.pi * S) * (1 - 0.6 * T ** 2) + 10 * S
+    P = np.stack([200 * S, width * T, z], -1)
+    P[:collapsed] = P[0, 0]
+    P[-2, 0] = P[-1, 0] - 0.8 * (P[-1, 1] - P[-1, 0])
+    return Surface(P, np.ones((nu, nv)), c1_knots(nu), c1_knots(nv), 3, 3)
