@@ -2,6 +2,7 @@
 make_area_constrain(), make_direct_push(). Each creates one feature in one
 transaction and recomputes; the keyword arguments are the object's properties."""
 import FreeCAD as App
+import numpy as np
 
 from .features.base import RESULT_TYPES, base_kind
 from .features.area_constrain import AreaConstrain
@@ -71,9 +72,14 @@ def make_bend(base, plane, angle, axis, plane2=None):
 
 
 def make_twist(base, plane, plane2, angle, axis=None):
-    """Twist the region of `base` between `plane` and `plane2` by `angle` (degrees)."""
+    """Twist the region of `base` between `plane` and `plane2` by `angle` (degrees, or a
+    quantity; beyond 360 deg the whole turns go to Turns)."""
+    degrees = App.Units.Quantity(angle).Value if isinstance(angle, str) else float(
+        getattr(angle, "Value", angle))
+    finite = bool(np.isfinite(degrees))  # not finite: NaN, which Angle keeps and refuses
+    turns = int(degrees / 360.0) if finite else 0
     values = {"Plane": plane_placement(plane), "Plane2": plane_placement(plane2, "Plane2"),
-              "Angle": angle}
+              "Angle": degrees - 360.0 * turns if finite else float("nan"), "Turns": turns}
     if axis is not None:
         values.update(Axis=plane_placement(axis, "Axis"), UseAxis=True)
     return _make(Twist, base, values)

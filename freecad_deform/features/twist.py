@@ -20,6 +20,9 @@ class Twist(DeformFeature):
              "Second separating plane, parallel to Plane and beyond it along the normal: the "
              "region between the planes twists."),
         ss.ANGLE,
+        Prop("App::PropertyInteger", "Turns", "Motion",
+             "Whole turns added to Angle: the region twists by Angle + 360 deg x Turns "
+             "(an angle property holds at most 360 deg).", 0),
         Prop("App::PropertyBool", "UseAxis", "Motion",
              "Twist about Axis; when false, about the Plane normal through the centroid of the "
              "cross-section at Plane.", False),
@@ -27,7 +30,7 @@ class Twist(DeformFeature):
 
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj, require_plane2=True)
-        angle = np.radians(obj.Angle.Value)
+        angle = np.radians(obj.Angle.Value + 360.0 * obj.Turns)
         ss.check_samples(obj, 2)
         if kind in ("Mesh", "Points"):
             return self._discrete(obj, kind, origin, normal, gap, angle)

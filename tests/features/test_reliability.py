@@ -101,6 +101,28 @@ class ReliabilityTest(unittest.TestCase):
         self.doc.recompute()
         self.assertIn("45 degrees", self.assert_refused(t, "Axis"))
 
+    def test_twist_of_two_turns(self):
+        """make_twist(720) and Angle 0 + Turns 2 are one request: the far part back where it
+        was (a 720 deg turn), the volume kept, the section an eighth of the way along turned
+        by 90 deg (its bounding box 10 x 30 instead of 30 x 10). Infinite is refused."""
+        bar = self.doc.addObject("Part::Feature", "Bar")
+        bar.Shape = Part.makeBox(30, 10, 100, V(-15, -5, 0))
+        t = fd.make_twist(bar, (V(0, 0, 20), V(0, 0, 1)), (V(0, 0, 80), V(0, 0, 1)), 720)
+        t.Samples = 96
+        self.doc.recompute()
+        self.assertEqual((t.Angle.Value, t.Turns), (0.0, 2))
+        self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
+        self.assertAlmostEqual(t.Shape.Volume / 30000.0, 1.0, delta=1e-3)
+        top = sorted(tuple(round(c, 6) for c in v.Point) for v in t.Shape.Vertexes
+                     if abs(v.Point.z - 100) < 1e-9)
+        self.assertEqual(top, sorted((x, y, 100.0) for x in (-15.0, 15.0) for y in (-5.0, 5.0)))
+        wires = t.Shape.slice(V(0, 0, 1), 27.5)
+        box = Part.makeFace(wires, "Part::FaceMakerBullseye").BoundBox
+        self.assertAlmostEqual(box.XLength, 10.0, delta=0.05)
+        self.assertAlmostEqual(box.YLength, 30.0, delta=0.05)
+        t2 = fd.make_twist(bar, (V(0, 0, 20), V(0, 0, 1)), (V(0, 0, 80), V(0, 0, 1)), INF)
+        self.assert_refused(t2, "Angle")
+
     def test_samples_beyond_the_bound_are_refused(self):
         t = fd.make_twist(self.box, (V(10, 0, 0), V(1, 0, 0)), (V(30, 0, 0), V(1, 0, 0)), 40)
         for samples in (1, 10 ** 6):
