@@ -22,6 +22,7 @@ KINDS = ("Distance", "Radius", "Position")
 FIT_TOLERANCE = 1e-4   # a region is a plane / cylinder when its fit deviates less (x size)
 SIMPLIFY_TOLERANCE = 5e-3  # handle simplification error (x size)
 PARALLEL = 1e-3        # radians: two planes closer than this are parallel
+SOFT = 1e3             # weight of leaving a free-form region, against 1 for rounding a cylinder
 
 
 class Drive(NamedTuple):
@@ -202,18 +203,23 @@ class DimensionModel:
 
     # --- constraints ------------------------------------------------------------------------
     def _forbidden(self, vertex, label):
-        """(hard, directions): the directions a vertex on region `label` may not move along
-        to keep that region a plane (its normal) or a cylinder (everything across the
-        axis); a free-form region only prefers not to (its normal there, soft)."""
+        """(hard, soft): the directions a vertex on region `label` may not move along to
+        keep that region a plane (its normal) or a cylinder (its normal there), and those
+        it should rather not: round a cylinder (sliding along the axis keeps the rim a
+        circle; round it only when the axis leaves no other way, e.g. a side plane moving
+        across a cylinder whose axis is parallel to it); off a free-form region."""
         if self.planar[label]:
-            return True, [self.planes[label].normal]
+            return [self.planes[label].normal], []
         cyl = self.cylinder(label)
         if cyl is not None:
-            u = np.cross(cyl.axis, np.eye(3)[np.argmin(np.abs(cyl.axis))])
-            u /= np.linalg.norm(u)
-            return True, [u, np.cross(cyl.axis, u)]
+            d = self.vertices[vertex] - cyl.point
+            radial = d - (d @ cyl.axis) * cyl.axis
+            if np.linalg.norm(radial) < 1e-12 * self.size:
+                return [], []
+            radial = _unit(radial)
+            return [radial], [np.cross(cyl.axis, radial)]
         at = np.any(self.triangles == vertex, axis=1) & (self.labels == label)
-        return False, [_unit((self.normals[at] * self.areas[at, None]).sum(axis=0))]
+        return [], [SOFT * _unit((self.normals[at] * self.areas[at, None]).sum(axis=0))]
 
     def constraint(self, vertex, direction, moving):
         """(c, exact): the paper's constraint vector at `vertex`, scaled so c . direction
@@ -225,7 +231,8 @@ class DimensionModel:
         for r in self.regions_of(vertex):
             if r not in moving:
                 strict, rows = self._forbidden(vertex, r)
-                (hard if strict else soft).extend(rows)
+                hard.extend(strict)
+                soft.extend(rows)
         hard, soft = np.array(hard).reshape(-1, 3), np.array(soft).reshape(-1, 3)
         N = np.eye(3)
         if len(hard):
@@ -233,9 +240,11 @@ class DimensionModel:
             N = vt[int(np.sum(s > 1e-6 * s[0])):].T               # the directions left free
         exact = N.shape[1] > 0 and np.linalg.norm(N.T @ direction) > 1e-3
         if not exact:
-            N, soft = np.eye(3), np.concatenate([hard, 1e-3 * soft])
+            N, soft = np.eye(3), np.concatenate([SOFT * hard, soft / SOFT])
+        # the least |c|^2 + |soft c|^2 with c . direction = 1, c in the free directions:
+        # a long slide (a rim along an axis almost across the motion) costs its length
         M = soft @ N
-        y = np.linalg.solve(M.T @ M + 1e-9 * np.eye(N.shape[1]), N.T @ direction)
+        y = np.linalg.solve(np.eye(N.shape[1]) + M.T @ M, N.T @ direction)
         c = N @ y
         return c / (c @ direction), exact
 
