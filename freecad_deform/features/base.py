@@ -6,6 +6,7 @@ from ..geometry.errors import DeformError
 
 OUTPUT = 1 | 8  # Prop_ReadOnly | Prop_Output: shown greyed out, setting it does not touch the object
 
+KIND_WORDS = {"Part": "shape", "Mesh": "mesh", "Points": "point cloud"}
 RESULT_TYPES = {"Part": "Part::FeaturePython", "Mesh": "Mesh::FeaturePython",
                 "Points": "Points::FeaturePython"}
 
@@ -24,12 +25,18 @@ def base_kind(base):
     if base is None:
         raise DeformError("Base is empty; link a solid, a mesh or a point cloud.", "Base")
     if base.isDerivedFrom("Mesh::Feature"):
-        return "Mesh"
-    if base.isDerivedFrom("Points::Feature"):
-        return "Points"
-    if hasattr(base, "Shape"):
-        return "Part"
-    raise DeformError(f"Base {base.Label} is not a solid, a mesh or a point cloud; link one.", "Base")
+        kind, empty = "Mesh", base.Mesh.CountPoints == 0
+    elif base.isDerivedFrom("Points::Feature"):
+        kind, empty = "Points", base.Points.CountPoints == 0
+    elif hasattr(base, "Shape"):
+        kind, empty = "Part", base.Shape.isNull()
+    else:
+        raise DeformError(f"Base {base.Label} is not a solid, a mesh or a point cloud; link "
+                          f"one.", "Base")
+    if empty:
+        raise DeformError(f"Base {base.Label} is empty (nothing to deform); link a Base that "
+                          f"holds a shape, a mesh or points.", "Base")
+    return kind
 
 
 def check_links(obj):
@@ -115,6 +122,12 @@ class DeformFeature:
         check_links(obj)
         check_finite(obj, self.PROPERTIES)
         kind = base_kind(obj.Base)
+        if not hasattr(self, "RESULT") and obj.TypeId != RESULT_TYPES[kind]:
+            was = next(k for k, t in RESULT_TYPES.items() if t == obj.TypeId)
+            raise DeformError(f"Base {obj.Base.Label} is a {KIND_WORDS[kind]}, but {obj.Label} "
+                              f"was made for a {KIND_WORDS[was]} and holds one; link a "
+                              f"{KIND_WORDS[was]}, or make a new {self.TYPE} on "
+                              f"{obj.Base.Label}.", "Base")
         result, outputs = self.compute(obj, kind)
         setattr(obj, {"Part": "Shape", "Mesh": "Mesh", "Points": "Points"}[kind], result)
         for name, value in outputs.items():

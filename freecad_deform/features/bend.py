@@ -65,6 +65,10 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
     planes, a region of one outline is its section revolved (exact, whatever the profile:
     it only spaces the sections differently); any other region goes through the bend map
     (shapes.mapped), report["MaxDeviation"] the largest deviation of a fit."""
+    bb = shape.BoundBox
+    reach = bb.DiagonalLength + np.linalg.norm(np.array(tuple(bb.Center)) - axis_point)
+    if abs(angle) * reach <= brep.TOL:  # no point moves more than the modelling tolerance
+        return shape.copy()
     turn = mo.rotation(axis_point, axis_direction, angle)
     far_motion = turn if gap is None else turn @ mo.translation(-gap * normal)
     far_joint = (mo.apply(turn, origin[None])[0], turn[:3, :3] @ normal)

@@ -28,6 +28,8 @@ class Stretch(DeformFeature):
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj)
         distance = obj.Distance.Value
+        if abs(distance) <= brep.TOL:  # below the modelling tolerance nothing moves
+            distance = 0.0
         if len(obj.Polyline) > 0:
             return self._folded(obj, kind, normal, distance)
         motion = ss.key_motion(obj, mo.translation(distance * normal))
@@ -139,9 +141,10 @@ def _stretch_solid(solid, origin, normal, distance, gap):
                        [(origin, normal), (origin + move, normal)])
     near, slab, far = brep.split_zones(solid, origin, normal, [0.0, -distance])
     if near and slab and not far:
-        reach = max(brep.extent(s, origin, normal)[1] for s in slab)
-        raise DeformError(f"Distance {distance:g} shrinks past the end of the part, which reaches "
-                          f"{reach:g} beyond Plane; keep Distance above {-reach:g}.", "Distance")
+        reach = max(brep.extent(s, origin, normal)[1] for s in slab) - brep.TOL
+        raise DeformError(f"Distance {distance:.10g} shrinks past the end of the part, which "
+                          f"reaches {reach:.10g} beyond Plane; keep Distance above "
+                          f"{-reach:.10g}.", "Distance")
     return _joined(near + brep.translated(far, move), [(origin, normal)])
 
 

@@ -178,6 +178,43 @@ class ReliabilityTest(unittest.TestCase):
         self.assertAlmostEqual(sum(f.Area for f in s.Shape.Faces), before + 10 * cut,
                                delta=1e-4 * before)
 
+    def test_below_the_modelling_tolerance_nothing_moves(self):
+        """Distance or Angle 1e-12 (OCCT's sweeps fail there): the Base's shape, unchanged."""
+        s = fd.make_stretch(self.box, (V(20, 0, 0), V(1, 0, 0)), 1e-12)
+        b = fd.make_bend(self.box, (V(20, 0, 0), V(1, 0, 0)), -1e-12,
+                         (V(20, 0, 40), V(0, 1, 0)))
+        for obj in (s, b):
+            self.assertEqual(obj.State, ["Up-to-date"], obj.getStatusString())
+            self.assertAlmostEqual(obj.Shape.Volume, 8000.0, delta=1e-9)
+            self.assertTrue(obj.Shape.BoundBox.isInside(self.box.Shape.BoundBox))
+            self.assertTrue(self.box.Shape.BoundBox.isInside(obj.Shape.BoundBox))
+
+    def test_shrink_limit_is_given_unrounded(self):
+        """The part reaches 20 beyond Plane: -19.9999999 works (a sliver stays), the message
+        for -20.5 gives the limit with its digits."""
+        s = fd.make_stretch(self.box, (V(20, 0, 0), V(1, 0, 0)), -20.5)
+        message = self.assert_refused(s, "Distance")
+        self.assertIn("above -19.9999999", message)
+        s.Distance = -19.99999
+        self.doc.recompute()
+        self.assertEqual(s.State, ["Up-to-date"], s.getStatusString())
+        self.assertAlmostEqual(s.Shape.BoundBox.XLength, 20.00001, delta=1e-9)
+
+    def test_base_of_another_kind_is_refused(self):
+        """A Stretch made on a solid whose Base becomes a mesh, and a Base with an empty
+        shape: both name Base."""
+        import Mesh
+        s = fd.make_stretch(self.box, (V(20, 0, 0), V(1, 0, 0)), 5)
+        mesh = self.doc.addObject("Mesh::Feature", "Mesh")
+        mesh.Mesh = Mesh.Mesh(self.box.Shape.tessellate(0.1))
+        s.Base = mesh
+        self.doc.recompute()
+        self.assertIn("mesh", self.assert_refused(s, "Base"))
+        empty = self.doc.addObject("Part::Feature", "Empty")
+        s.Base = empty
+        self.doc.recompute()
+        self.assertIn("empty", self.assert_refused(s, "Base"))
+
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
             self.doc.UndoMode = undo_mode
