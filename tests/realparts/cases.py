@@ -51,17 +51,19 @@ class Outcome(NamedTuple):
 
 
 # --- the B-rep solids -------------------------------------------------------------------------
-BREP = {  # model: plane fractions along the longest bounding-box axis
-    "face_recognition_sample_part.stp": (0.3, 0.5, 0.7),
-    "as1_pe_203.stp": (0.3, 0.5, 0.7),
-    "nist_ctc_01_asme1_rd.stp": (0.3, 0.5, 0.7),
-    "nist_ftc_09_asme1_rd.stp": (0.3, 0.5, 0.7),
-    "nist_ftc_10_asme1_rb.stp": (0.3, 0.5, 0.7),
-    "fc_Schenkel.stp": (0.3, 0.5, 0.7),
-    "fc_shelf.brep": (0.3, 0.5, 0.7),
-    "fc_blocks144.brep": (0.3, 0.5, 0.7),
-    "occt_Bottom.brep": (0.3, 0.5, 0.7),
-    "trimesh_box_sides.STEP": (0.3, 0.5, 0.7),
+THREE = {"Stretch": (0.3, 0.5, 0.7), "Bend": (0.3, 0.5, 0.7), "Twist": (0.3, 0.5, 0.7)}
+BREP = {  # model: plane fractions along the longest bounding-box axis, per feature
+    "face_recognition_sample_part.stp": THREE,
+    "as1_pe_203.stp": THREE,
+    "nist_ctc_01_asme1_rd.stp": THREE,
+    "nist_ftc_09_asme1_rd.stp": THREE,
+    "nist_ftc_10_asme1_rb.stp": THREE,
+    "fc_shelf.brep": THREE,
+    "trimesh_box_sides.STEP": THREE,
+    # 400 to 1000 faces: one plane per feature keeps the matrix within CI's minutes
+    "fc_Schenkel.stp": {"Stretch": (0.5,), "Bend": (0.3,), "Twist": (0.5,)},
+    "fc_blocks144.brep": {"Stretch": (0.5,), "Bend": (0.3,), "Twist": (0.3,)},
+    "occt_Bottom.brep": {"Stretch": (0.3,), "Bend": (0.7,), "Twist": (0.5,)},
 }
 STRETCH = 0.1      # distance, x the longest extent
 BEND = 30.0        # degrees
@@ -75,8 +77,8 @@ def _short(model):
 
 def brep_cases():
     out = []
-    for model, fracs in BREP.items():
-        for feature in ("Stretch", "Bend", "Twist"):
+    for model, planes in BREP.items():
+        for feature, fracs in planes.items():
             for f in fracs:
                 out.append(Case(f"{feature.lower()}-{_short(model)}-{int(round(f * 100))}",
                                 "brep", model, feature, {"frac": f}))
@@ -149,9 +151,11 @@ def run_brep(case, doc, floor):
         expected_change = 0.0
     seconds = time.perf_counter() - t0
     status, message = outcome_of(obj)
-    t1 = time.perf_counter()
-    noise = orc.split_noise(shape, planes)
-    floor_s = time.perf_counter() - t1 if floor else None
+    noise, floor_s = None, None
+    if floor:  # the table times OCCT's own split and fuse of the same planes
+        t1 = time.perf_counter()
+        noise = orc.split_noise(shape, planes)
+        floor_s = time.perf_counter() - t1
     if status != "ok":
         return Outcome(status, message, {}, seconds, floor_s)
     result = obj.Shape
@@ -169,8 +173,11 @@ def run_brep(case, doc, floor):
     # is 1e-6 of it plus OCCT's own volume precision on this split (split_noise)
     scale = abs(expected_change) if case.feature != "Twist" else area * gap
     rel = 1e-6 if case.feature != "Twist" else 2e-4   # a twist's loft approximates helicoids
-    vtol = rel + (4 * noise + 1e-9 * shape.Volume) / scale
-    errors["volume"] = (abs(change - expected_change) / scale, vtol)
+    err = abs(change - expected_change) / scale
+    if err > rel and noise is None:   # past the plain tolerance: measure OCCT's precision
+        noise = orc.split_noise(shape, planes)
+    vtol = rel + (4 * (noise or 0.0) + 1e-9 * shape.Volume) / scale
+    errors["volume"] = (err, vtol)
     errors["VolumeChange"] = (abs(obj.VolumeChange - expected_change) / scale, vtol)
     before = orc.away_parts(shape, origin, n, gap, 1e-3 * size)
     missing, worst = orc.unchanged_parts(before, result, motion, 1e-6 * size)
@@ -190,8 +197,10 @@ def discrete_cases():
     out = []
     for group, models in (("mesh", MESHES), ("points", SCANS)):
         for model in models:
+            big = model in ("trimesh_counter.unitsmm.STL",
+                            "pcl_table_scene_mug_stereo_textured.pcd")
             for feature in ("Stretch", "Bend", "Twist"):
-                for f in (0.3, 0.5, 0.7):
+                for f in (0.5,) if big else (0.3, 0.5, 0.7):
                     out.append(Case(f"{feature.lower()}-{_short(model)}-{int(round(f * 100))}",
                                     group, model, feature, {"frac": f}))
         out.append(Case(f"stretch-{_short(models[1])}-miss", group, models[1], "Stretch",
@@ -241,7 +250,12 @@ def rigid_parts(before, after, origin, n, motion, gap, tol):
     from scipy.spatial import cKDTree
     s = (before - origin) @ n
     expected = np.vstack([before[s < -tol], orc.apply(motion, before[s > gap + tol])])
+    if len(expected) > SAMPLE:   # a fixed random sample keeps big scans within seconds
+        expected = expected[np.random.default_rng(0).choice(len(expected), SAMPLE, False)]
     return float(cKDTree(after).query(expected)[0].max())
+
+
+SAMPLE = 20000
 
 
 def run_mesh(case, doc, floor):
@@ -315,7 +329,9 @@ def run_points(case, doc, floor):
         from scipy.spatial import cKDTree
         s = (P - origin) @ n
         kept = np.vstack([P[s <= 0], orc.apply(motion, P[s > 0])])
-        extra = out[cKDTree(kept).query(out)[0] > tol]
+        extra = out[len(P):]      # the fill follows the moved points
+        errors["moved in order"] = (float(np.abs(out[:len(P)] - kept[np.argsort(
+            np.r_[np.flatnonzero(s <= 0), np.flatnonzero(s > 0)])]).max()) / size, 1e-6)
         s0 = (extra - origin) @ n
         s1 = (extra - orc.apply(motion, origin[None])[0]) @ (motion[:3, :3] @ n)
         outside = (s0 < -tol) | (s1 > tol)          # fill outside the gap
@@ -342,7 +358,7 @@ DIMENSIONS = {  # id: (model, kind, surfaces, target, origin, axis point)
     "dimension-fandisk-distance": (
         "fandisk.obj", "Distance",
         [_plane((4.8279, 0, 0), (1, 0, 0), (4.83, 15.63, -0.29), 1.5),
-         _plane((0, 0, 0), (-1, 0, 0), (0, 14.98, -1.31), 1.5)], 4.9, None, None),
+         _plane((0, 0, 0), (-1, 0, 0), (0, 14.98, -1.31), 1.5)], 4.65, None, None),
     "dimension-sh2-distance": (
         "occt_sh2.stl", "Distance",
         [_plane((-55.5, 0, 0), (1, 0, 0), (-55.5, -17.89, -32), 20),
@@ -359,17 +375,17 @@ DIMENSIONS = {  # id: (model, kind, surfaces, target, origin, axis point)
         [_cyl((0, 0, 0), (0, 0, 1), 85.0, (-85, 0, 30), 200)], 88.0, None, None),
     "dimension-counter-radius": (
         "trimesh_counter.unitsmm.STL", "Radius",
-        [_cyl((153.93, 75.87, 0), (0, 0, 1), 7.938, (153.93, 75.87, 276.94), 12)], 9.0,
+        [_cyl((153.93, 75.87, 0), (0, 0, 1), 7.938, (153.93, 75.87, 276.94), 12)], 8.2,
         None, None),
     "dimension-counter-position": (
         "trimesh_counter.unitsmm.STL", "Position",
-        [_plane((0, 0, 281.7), (0, 0, 1), (100, 157.98, 281.7), 40),
+        [_plane((0, 0, 281.7), (0, 0, 1), (100, 157.98, 281.7), 200),
          _cyl((180.61, 157.98, 0), (0, 0, 1), 7.938, (180.61, 157.98, 276.62), 12)],
         (139.7, 5.0), (40.91, 157.98, 281.7), (80.0, 157.98, 281.7)),
     "dimension-counter-distance": (
         "trimesh_counter.unitsmm.STL", "Distance",
-        [_plane((0, 0, 281.7), (0, 0, 1), (100, 157.98, 281.7), 40),
-         _plane((0, 0, 269), (0, 0, -1), (40.28, 158.95 + 60, 269), 40)], 14.0, None, None),
+        [_plane((0, 0, 281.7), (0, 0, 1), (100, 157.98, 281.7), 200),
+         _plane((0, 0, 269), (0, 0, -1), (40.28, 158.95 + 60, 269), 200)], 14.0, None, None),
 }
 
 
@@ -457,7 +473,7 @@ def run_dimension(case, doc, floor):
     n0 = np.cross(V0[T0[:, 1]] - V0[T0[:, 0]], V0[T0[:, 2]] - V0[T0[:, 0]])
     n1 = np.cross(V1[T1[:, 1]] - V1[T1[:, 0]], V1[T1[:, 2]] - V1[T1[:, 0]])
     errors["flipped"] = (float((np.einsum("ij,ij->i", n0, n1) <= 0).sum()), 0.5)
-    fit_tol = 1e-5 * size + 1e-6 * np.abs(V0).max()   # float32 storage
+    fit_tol = 1e-6 * size + 4 * 1.2e-7 * np.abs(V0).max()   # float32 storage
     if kind == "Distance":
         (na, ca, ra), (nb, cb, rb) = mo.plane_fit(V1[sel[0]]), mo.plane_fit(V1[sel[1]])
         if na @ nb < 0:
@@ -481,9 +497,9 @@ def run_dimension(case, doc, floor):
         errors["hole round"] = (rms, fit_tol)
         errors["hole radius kept"] = (abs(r - surfaces[1][3]), fit_tol)
         target = 0.0
-    errors["dimension"] = (abs(achieved - target), 10 * fit_tol)
+    errors["dimension"] = (abs(achieved - target), fit_tol)
     if kind != "Position":
-        errors["Achieved"] = (abs(obj.Achieved - target), 10 * fit_tol)
+        errors["Achieved"] = (abs(obj.Achieved - target), fit_tol)
     return Outcome("ok", "", errors, seconds)
 
 

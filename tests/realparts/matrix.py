@@ -33,7 +33,7 @@ def main(argv):
     picked = [c for c in cases.all_cases() if not argv or any(a in c.id for a in argv)]
     print("| case | result | oracle error | s | OCCT floor s |")
     print("| --- | --- | --- | --- | --- |")
-    counts, start = {}, time.perf_counter()
+    counts, start, cpu = {}, time.perf_counter(), time.process_time()
     for case in picked:
         out = cases.run(case, floor=True)
         cells = row(case, out)
@@ -43,7 +43,8 @@ def main(argv):
         counts[key] = counts.get(key, 0) + 1
         print("| " + " | ".join(c.replace("|", "/").replace("\n", " ") for c in cells) + " |",
               flush=True)
-    print(f"\n{len(picked)} cases in {time.perf_counter() - start:.0f} s: "
+    print(f"\n{len(picked)} cases in {time.perf_counter() - start:.0f} s "
+          f"({time.process_time() - cpu:.0f} s of CPU): "
           + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())))
     return 0 if counts.get("FAILED", 0) == 0 else 1
 
