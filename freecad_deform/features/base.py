@@ -1,4 +1,5 @@
 """What every Deform feature shares: its properties, saving, the base it reads, its errors."""
+import functools
 import math
 from typing import Any, NamedTuple
 
@@ -93,6 +94,23 @@ class DeformFeature:
     TYPE = "Deform"
     PROPERTIES = ()
 
+    def __init_subclass__(cls, **kwargs):
+        """A subclass that writes its own execute() gets the checks every feature needs
+        (check_inputs) run first all the same."""
+        super().__init_subclass__(**kwargs)
+        own = cls.__dict__.get("execute")
+        if own is not None:
+            @functools.wraps(own)
+            def execute(self, obj):
+                self.check_inputs(obj)
+                return own(self, obj)
+            cls.execute = execute
+
+    def check_inputs(self, obj):
+        """No self-link or cycle through Base, no NaN or infinite property value."""
+        check_links(obj)
+        check_finite(obj, self.PROPERTIES)
+
     def __init__(self, obj):
         obj.Proxy = self
         self.ensure_properties(obj)
@@ -119,8 +137,7 @@ class DeformFeature:
     __setstate__ = loads
 
     def execute(self, obj):
-        check_links(obj)
-        check_finite(obj, self.PROPERTIES)
+        self.check_inputs(obj)
         kind = base_kind(obj.Base)
         if not hasattr(self, "RESULT") and obj.TypeId != RESULT_TYPES[kind]:
             was = next(k for k, t in RESULT_TYPES.items() if t == obj.TypeId)

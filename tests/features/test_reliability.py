@@ -83,6 +83,26 @@ class ReliabilityTest(unittest.TestCase):
         self.assert_refused(b, "Axis")
         self.assertAlmostEqual(self.box.Shape.Volume, 8000.0, delta=1e-9)
 
+    def test_dimension_drive_gets_the_same_checks(self):
+        """DimensionDrive writes its own execute(): a self-link and a NaN Target are refused
+        all the same, naming Base and Target; the mesh stays as the last good result."""
+        import Mesh
+        mesh = self.doc.addObject("Mesh::Feature", "Mesh")
+        mesh.Mesh = Mesh.Mesh(self.box.Shape.tessellate(0.1))
+        d = fd.make_dimension_drive(mesh, "Distance", [(20, 10, 10), (20, 10, 0)], 12)
+        self.assertEqual(d.State, ["Up-to-date"], d.getStatusString())
+        self.assertAlmostEqual(d.Mesh.BoundBox.ZLength, 12.0, delta=1e-5)
+        d.Target = NAN
+        self.doc.recompute()
+        self.assert_refused(d, "Target")
+        d.Target = 12
+        d.Base = d
+        for _ in range(2):
+            d.touch()
+            self.doc.recompute()
+            self.assert_refused(d, "Base")
+        self.assertAlmostEqual(d.Mesh.BoundBox.ZLength, 12.0, delta=1e-5)
+
     def test_push_to_a_target_that_is_not_finite_is_refused(self):
         e = self.doc.addObject("Part::Feature", "Curve")
         e.Shape = Part.makeCircle(10)
