@@ -355,8 +355,15 @@ class DirectPush(DeformFeature):
             return new if shape.ShapeType == "Face" else shape.replaceShape([(face, new)])
         if not obj.Blend:
             result = bspline.with_surface(owner, index, surface)
-            if result is None:
-                result = bspline.replaced(owner, index, self._rebuilt(obj, state, surface))
+            exact = Part.Face(surface) if state.trim is None else \
+                bspline.face_on(surface, state.trim, "Element")
+            if exact is not None and (result is None or abs(
+                    result.Faces[index].Area - exact.Area) > 1e-9 * exact.Area):
+                # OCCT's projected pcurves moved the boundary in (u, v): sew the face
+                # rebuilt on its own pcurves instead, if that leaves the others as they were
+                sewn = bspline.replaced(owner, index, exact)
+                if sewn is not None and bspline.same_faces(owner, sewn, skip=index):
+                    result = sewn
         else:
             result = self._blended(obj, state, owner, index)
         if result is None:

@@ -242,26 +242,55 @@ def replaced_all(shape, faces_by_index):
         shell = Part.Shell(faces)
         shell.sewShape()
         shell = shell.Shells[0] if shell.Shells else shell
-        if len(shell.Faces) == len(faces):
-            shell = Part.Shell(in_order(shell.Faces, faces))
+        sewn = shell.Faces
+        if len(sewn) == len(faces):
+            ordered = in_order(sewn, faces)
+            if any(not a.isSame(b) for a, b in zip(ordered, sewn)):
+                shell = Part.Shell(ordered)
         result = Part.Solid(shell) if kind == "Solid" else shell
     except Part.OCCError:  # the faces do not close up again (e.g. a seam that moved)
         return None
-    if kind == "Solid" and result.Volume < 0:
-        result.reverse()
+    if kind == "Solid":
+        box = result.BoundBox
+        far = App.Vector(box.XMax, box.YMax, box.ZMax) + App.Vector(1, 1, 1) * box.DiagonalLength
+        if result.isInside(far, 1e-9, True):   # inside out: a negative volume
+            result.reverse()
     return result if result.isValid() and len(result.Faces) == len(faces) else None
+
+
+def same_faces(before, after, skip, rel=1e-9):
+    """Whether every face but `skip` kept its type and area (to `rel`); faces that are
+    the very same shape are not measured."""
+    return len(before.Faces) == len(after.Faces) and all(
+        a.isSame(b) or (a.Surface.TypeId == b.Surface.TypeId and
+                        abs(a.Area - b.Area) <= rel * a.Area)
+        for i, (a, b) in enumerate(zip(before.Faces, after.Faces)) if i != skip)
 
 
 def in_order(sewn, faces):
     """The sewn faces in the order of `faces` (sewing may reorder them; FaceN must stay
-    FaceN): matched by centre of mass and area, one to one."""
-    def key(fs):
-        return np.array([tuple(f.CenterOfMass) + (f.Area,) for f in fs])
-    a, b = key(faces), key(sewn)
-    cost = np.linalg.norm(a[:, None, :3] - b[None, :, :3], axis=2) + \
-        np.abs(a[:, None, 3] - b[None, :, 3])
-    rows, cols = linear_sum_assignment(cost)
-    return [sewn[c] for _, c in sorted(zip(rows, cols))]
+    FaceN): the very same faces first, the rest matched by centre of mass and area."""
+    by_hash = {}
+    for j, f in enumerate(sewn):
+        by_hash.setdefault(f.hashCode(), []).append(j)
+    order, left = [None] * len(faces), []
+    for i, f in enumerate(faces):
+        j = next((j for j in by_hash.get(f.hashCode(), ()) if sewn[j].isSame(f)), None)
+        if j is None:
+            left.append(i)
+        else:
+            order[i] = j
+            by_hash[f.hashCode()].remove(j)
+    rest = sorted(set(range(len(sewn))) - {j for j in order if j is not None})
+    if left:
+        def key(fs):
+            return np.array([tuple(f.CenterOfMass) + (f.Area,) for f in fs])
+        a, b = key([faces[i] for i in left]), key([sewn[j] for j in rest])
+        cost = np.linalg.norm(a[:, None, :3] - b[None, :, :3], axis=2) + \
+            np.abs(a[:, None, 3] - b[None, :, 3])
+        for r, c in zip(*linear_sum_assignment(cost)):
+            order[left[r]] = rest[c]
+    return [sewn[j] for j in order]
 
 
 def _oriented_pieces(face):

@@ -415,6 +415,20 @@ class TestRealModels(PushCase):
                     self.assertIn("converted exactly", obj.Conversion)
                     self.doc.removeObject(obj.Name)
 
+    def test_a_face_of_a_solid_keeps_its_trim_in_parameter_space(self):
+        """Face 154's edges do not take a new surface exactly (OCCT's projected pcurves
+        change its area by 6e-5): it is rebuilt on its own pcurves and sewn, and a push to
+        where the point already is gives the face back with its area (OCCT) to 1e-9."""
+        housing = read("occt_Bottom.brep")
+        base = self.feature(housing.Solids[0], "Housing")
+        point, normal = inner_point(housing.Faces[153])
+        obj = fd.make_direct_push(base, "Face154", point, point)
+        self.assertValid(obj)
+        assert_pushed_in_solid(self, base.Shape, obj.Shape, 153, point)
+        self.assertAlmostEqual(obj.Shape.Faces[153].Area, housing.Faces[153].Area,
+                               delta=1e-9 * housing.Faces[153].Area)
+        self.push_face_of_solid(base, 153)
+
     def test_a_degenerated_edge_is_refused_by_name(self):
         housing = read("occt_Bottom.brep")
         index = next(i for i, e in enumerate(housing.Edges) if e.Degenerated)
