@@ -69,11 +69,16 @@ class SpaceMap:
         t = profile_value(self.profile, np.asarray(s, float).reshape(-1))
         return fraction_matrices(self.transforms, t)
 
-    def __call__(self, points):
+    def __call__(self, points, clamp=True):
+        """The mapped points. clamp=False continues the map's formula past both planes
+        (the profile polynomial unclamped): equal to the map inside the region and smooth
+        across the planes, for fitting a face whose parameter rectangle reaches out of it."""
         pts = np.asarray(points, float).reshape(-1, 3)
+        s = self.s(pts) if clamp else (pts - self.origin) @ self.normal / self.gap
         if self.apply is not None:
-            return self.apply(profile_value(self.profile, self.s(pts)), pts)
-        return apply_each(self.matrices(self.s(pts)), pts)
+            return self.apply(profile_value(self.profile, s), pts)
+        return apply_each(fraction_matrices(self.transforms, profile_value(self.profile, s)),
+                          pts)
 
     @property
     def end(self):

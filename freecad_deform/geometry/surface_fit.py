@@ -56,8 +56,21 @@ def _solve(B, X):
     is a banded, well-conditioned Gram matrix of B-splines sampled SAMPLES_PER_SPAN times
     per span (Schoenberg-Whitney holds), so Cholesky is exact enough and fast."""
     flat = X.reshape(X.shape[0], -1)
-    gram = cho_factor(B.T @ B)
-    return cho_solve(gram, B.T @ flat).reshape((B.shape[1],) + X.shape[1:])
+    try:
+        solved = cho_solve(cho_factor(B.T @ B), B.T @ flat)
+    except np.linalg.LinAlgError:  # knots far closer than elsewhere: the general solver
+        solved = np.linalg.lstsq(B, flat, rcond=None)[0]
+    return solved.reshape((B.shape[1],) + X.shape[1:])
+
+
+def _at_least(breaks, count):
+    """Breakpoints with the longest spans cut in two until there are `count` spans (so the
+    samples outnumber the poles)."""
+    b = np.asarray(breaks, float)
+    while len(b) - 1 < count:
+        k = int(np.argmax(np.diff(b)))
+        b = np.insert(b, k + 1, 0.5 * (b[k] + b[k + 1]))
+    return b
 
 
 def _span_of(params, breaks):
@@ -99,7 +112,7 @@ def fit_surface(fn, u_range, v_range, tol, degree=3, spans=(4, 4), max_spans=256
     point: the fit is closed exactly where the original is, so seams and degenerated edges
     stay what they are."""
     ub, vb = (np.linspace(*u_range, spans[0] + 1), np.linspace(*v_range, spans[1] + 1)) \
-        if breaks is None else (np.asarray(breaks[0], float), np.asarray(breaks[1], float))
+        if breaks is None else (_at_least(breaks[0], degree), _at_least(breaks[1], degree))
     while True:
         fu, cu = samples(ub)
         fv, cv = samples(vb)

@@ -18,12 +18,13 @@ import Part
 
 from ..geometry import continuity, surface_fit
 from ..geometry.errors import DeformError
-from . import brep
+from . import brep, bspline
 from .convert import vector
 
 # OCCT's sewing on FreeCAD 0.20 works at 1e-6 mm whatever it is asked: faces fitted to
 # this (two of them meet within twice it) sew; looser fits need the slow fuzzy fuse
 SEW_FIT = 4e-7
+DEGREE = 5   # fitted surfaces: the error falls as h^6, so a tight fit needs few spans
 
 REVOLUTION = ("Part::GeomCylinder", "Part::GeomCone", "Part::GeomSphere", "Part::GeomToroid",
               "Part::GeomSurfaceOfRevolution")
@@ -106,12 +107,16 @@ def sewn_solid(faces, joints, deviation, prop):
     """One valid solid from faces that meet within `deviation` (sewn at a few times it;
     voids kept), its faces merged again across the joint planes."""
     tol = max(4.0 * deviation, 1e-6)
-    shells = _closed_shells(faces, tol)
-    if shells is None:
-        # OCCT's sewing leaves a closed fitted edge apart from an exact one (a hole's
-        # rim at a joint); a fuzzy general fuse shares them
-        fused = faces[0].generalFuse(faces[1:], tol)[0]
-        shells = _closed_shells(fused.Faces, 1e-7)
+    sewn = _sewn(faces, tol)
+    loose = _with_free_edges(sewn.Faces)
+    if loose:
+        # edges farther apart than FreeCAD 0.20's sewing reaches (1e-6 mm, whatever it is
+        # asked; a real file's own edge tolerances): a fuzzy general fuse of the faces
+        # around the gaps shares them, then all is sewn again
+        fused = loose[0].generalFuse(loose[1:], tol)[0]
+        keep = [f for f in sewn.Faces if not any(f.isSame(g) for g in loose)]
+        sewn = _sewn(keep + fused.Faces, tol)
+    shells = _closed_shells(sewn)
     if shells is None:
         raise DeformError(f"The mapped faces do not close a solid (gaps above "
                           f"{tol:.3g} mm); lower {prop}.", prop)
@@ -130,14 +135,28 @@ def sewn_solid(faces, joints, deviation, prop):
     return solid
 
 
-def _closed_shells(faces, tol):
-    """The shells the faces make when sewn at `tol`, or None unless every face is in a
-    closed one."""
+def _sewn(faces, tol):
+    """The faces sewn (at `tol` where FreeCAD passes it on) into one compound."""
     compound = Part.makeCompound(faces)
     compound.sewShape(tol)
-    shells = compound.Shells
+    return compound
+
+
+def _with_free_edges(faces):
+    """The faces that have an edge no other face shares (a seam is not free)."""
+    count = {}
+    for face in faces:
+        for edge in face.Edges:
+            count[edge.hashCode()] = count.get(edge.hashCode(), 0) + 1
+    return [f for f in faces if any(count[e.hashCode()] == 1 and not e.isSeam(f)
+                                    and not e.Degenerated for e in f.Edges)]
+
+
+def _closed_shells(sewn):
+    """The closed shells of a sewn compound, or None unless every face is in one."""
+    shells = sewn.Shells
     if not shells or not all(sh.isClosed() for sh in shells) or \
-            sum(len(sh.Faces) for sh in shells) != len(faces):
+            sum(len(sh.Faces) for sh in shells) != len(sewn.Faces):
         return None
     return shells
 
@@ -182,30 +201,82 @@ def surface_grid(surface, U, V):
 
 
 def _closed_form(surface):
-    """f(U, V) -> points for a Part.Plane or Part.Cylinder, or None."""
+    """f(U, V) -> points for a plane, cylinder, cone, sphere, torus or B-spline surface
+    (frames read off a few of its points, poles from the surface), checked against the
+    surface at probe points; None for any other surface or when the check fails."""
     def at(u, v):
         p = surface.value(u, v)
         return np.array([p.x, p.y, p.z])
 
-    if surface.TypeId == "Part::GeomPlane":
+    kind = surface.TypeId
+    h = 0.5 * np.pi
+    cos, sin = (lambda U: np.cos(U)[..., None]), (lambda U: np.sin(U)[..., None])
+    if kind == "Part::GeomPlane":
         o, du, dv = at(0, 0), at(1, 0) - at(0, 0), at(0, 1) - at(0, 0)
 
         def form(U, V):
             return o + U[..., None] * du + V[..., None] * dv
-    elif surface.TypeId == "Part::GeomCylinder":
-        a, b, c = at(0, 0), at(np.pi, 0), at(0.5 * np.pi, 0)
-        centre, along = 0.5 * (a + b), at(0, 1) - a
-        x, y = a - centre, c - centre
+    elif kind in ("Part::GeomCylinder", "Part::GeomCone"):
+        c = 0.5 * (at(0, 0) + at(np.pi, 0))
+        rx, ry = at(0, 0) - c, at(h, 0) - c
+        d0, dpi = at(0, 1) - at(0, 0), at(np.pi, 1) - at(np.pi, 0)
+        sx, cz = 0.5 * (d0 - dpi), 0.5 * (d0 + dpi)
+        sy = at(h, 1) - at(h, 0) - cz
 
         def form(U, V):
-            return (centre + np.cos(U)[..., None] * x + np.sin(U)[..., None] * y
-                    + V[..., None] * along)
+            V = V[..., None]
+            return c + cos(U) * (rx + V * sx) + sin(U) * (ry + V * sy) + V * cz
+    elif kind == "Part::GeomSphere":
+        c = 0.5 * (at(0, 0) + at(np.pi, 0))
+        x, y, z = at(0, 0) - c, at(h, 0) - c, at(0, h) - c
+
+        def form(U, V):
+            return c + cos(V) * (cos(U) * x + sin(U) * y) + sin(V) * z
+    elif kind == "Part::GeomToroid":
+        c = 0.5 * (at(0, 0) + at(np.pi, 0))
+        big_x = 0.5 * (at(0, 0) + at(0, np.pi)) - c
+        small_x = 0.5 * (at(0, 0) - at(0, np.pi))
+        big_y = 0.5 * (at(h, 0) + at(h, np.pi)) - c
+        small_y = 0.5 * (at(h, 0) - at(h, np.pi))
+        small_z = at(0, h) - c - big_x
+
+        def form(U, V):
+            return (c + cos(U) * (big_x + cos(V) * small_x)
+                    + sin(U) * (big_y + cos(V) * small_y) + sin(V) * small_z)
+    elif kind == "Part::GeomBSplineSurface" and not (surface.isUPeriodic()
+                                                     or surface.isVPeriodic()):
+        form = _bspline_form(surface)
     else:
         return None
-    probe = np.array([0.3, 1.7]), np.array([-2.1, 0.9])
+    u0, u1, v0, v1 = surface.bounds()
+    probe = (np.array([0.31, 0.77, 0.5]), np.array([0.62, 0.13, 0.5]))
+    if all(np.isfinite([u0, u1, v0, v1])):
+        probe = (u0 + probe[0] * (u1 - u0), v0 + probe[1] * (v1 - v0))
+    else:
+        probe = (probe[0] * 3 - 1, probe[1] * 3 - 1)
     exact = np.array([at(u, v) for u, v in zip(*probe)])
     size = max(1.0, float(np.abs(exact).max()))
-    return form if np.abs(form(*probe) - exact).max() < 1e-12 * size else None
+    return form if np.abs(form(*probe) - exact).max() < 1e-11 * size else None
+
+
+def _bspline_form(surface):
+    """Vectorised evaluation of a (rational) non-periodic B-spline surface."""
+    from ..geometry.surface_fit import design
+    poles = np.array([[(p.x, p.y, p.z) for p in row] for row in surface.getPoles()])
+    w = np.array(surface.getWeights(), float)
+    uk = np.repeat(surface.getUKnots(), surface.getUMultiplicities())
+    vk = np.repeat(surface.getVKnots(), surface.getVMultiplicities())
+    du, dv = surface.UDegree, surface.VDegree
+    hom = np.concatenate([poles * w[..., None], w[..., None]], axis=-1)
+
+    def form(U, V):
+        U, V = np.broadcast_arrays(U, V)
+        shape = U.shape
+        bu, bv = design(U.ravel(), uk, du), design(V.ravel(), vk, dv)
+        out = np.einsum("ka,abd,kb->kd", bu, hom, bv, optimize=True)
+        return (out[:, :3] / out[:, 3:]).reshape(shape + (3,))
+
+    return form
 
 
 def _fitted(face, smap, tol):
@@ -213,14 +284,20 @@ def _fitted(face, smap, tol):
     surface = face.Surface
     u0, u1, v0, v1 = face.ParameterRange
 
-    def mapped(U, V):
+    def mapped(U, V):  # the map continued past the planes: smooth over the whole rectangle
         pts = surface_grid(surface, U, V)
-        return smap(pts.reshape(-1, 3)).reshape(pts.shape)
+        return smap(pts.reshape(-1, 3), clamp=False).reshape(pts.shape)
 
     ub, vb = _breaks(surface, u0, u1, 0), _breaks(surface, v0, v1, 1)
-    fit = surface_fit.fit_surface(mapped, (u0, u1), (v0, v1), tol, breaks=(ub, vb))
+    fit = surface_fit.fit_surface(mapped, (u0, u1), (v0, v1), tol, degree=DEGREE,
+                                  breaks=(ub, vb))
     new = bspline_surface(fit)
-    built = face_on_pcurves(new, face, lambda e: face.curveOnSurface(e))
+    if not bspline.trimmed(face):  # all of its surface's rectangle: OCCT bounds it itself
+        built = Part.Face(new)     # (seams and degenerated edges made right)
+        if face.Orientation == "Reversed":
+            built.reverse()
+        return built, fit.deviation
+    built = face_on_pcurves(new, face, lambda e, forward: forward.curveOnSurface(e))
     if built is None:
         raise DeformError("A mapped face could not be rebuilt on its fitted surface; "
                           "change Tolerance.", "Tolerance")
@@ -265,8 +342,8 @@ def _knots_mults(full):
 
 
 def face_on_pcurves(surface, face, pcurve):
-    """The face rebuilt on `surface`: every edge made from `pcurve(edge)` -> (Geom2d
-    curve, first, last) on the new surface, wires in the face's order. A seam is made
+    """The face rebuilt on `surface`: every edge made from `pcurve(edge, forward face)` ->
+    (Geom2d curve, first, last) on the new surface, wires in the face's order. A seam is made
     once and used both ways (OCCT's shape fixing then adds its second pcurve), so the
     face stays closed round it. None when OCCT cannot build a valid face."""
     forward = face.reversed() if face.Orientation == "Reversed" else face
@@ -277,26 +354,31 @@ def face_on_pcurves(surface, face, pcurve):
         built, made = [], {}
         for wire in wires:
             edges, ordered = [], wire.OrderedEdges
+            twice = [e for e in ordered if sum(e.isSame(o) for o in ordered) == 2]
             # a seam first: OCCT's wire builder keeps its first edge and copies later
             # ones to join their vertices, which would split the seam's two uses
-            first = next((k for k, e in enumerate(ordered) if e.isSeam(forward)), 0)
+            first = next((k for k, e in enumerate(ordered) if e in twice), 0)
             for edge in ordered[first:] + ordered[:first]:
+                if edge.Degenerated:  # left out: the shape fix below puts it back
+                    continue
                 twin = next((m for e, m in made.items() if e.isSame(edge)), None)
-                if twin is not None and edge.isSeam(forward):
+                if twin is not None and edge in twice:
                     edges.append(twin.reversed())
                     seamed = True
                     continue
-                c2d, a, b = pcurve(edge)
+                c2d, a, b = pcurve(edge, forward)
                 new = c2d.toShape(surface, a, b)
                 if edge.Orientation == "Reversed":
                     new.reverse()
+                # a real file's pcurves meet only within its edges' tolerance
+                new.fixTolerance(max([edge.Tolerance] + [v.Tolerance for v in edge.Vertexes]))
                 made[edge] = new
                 edges.append(new)
             built.append(Part.Wire(edges))
         result = Part.Face(surface, built[0])
         for wire in built[1:]:
             result = Part.Face(result, wire)
-        if seamed or any(e.Degenerated for e in face.Edges):
+        if seamed or any(e.Degenerated for e in face.Edges) or not result.isValid():
             result.fix(1e-7, 1e-7, 1e-3)
     except Part.OCCError:
         return None
@@ -336,8 +418,8 @@ def _turned_on_surface(face, smap, tol):
     worst = [0.0]
     value = surface.value
 
-    def pcurve(edge):
-        c2d, a, b = face.curveOnSurface(edge)
+    def pcurve(edge, forward):
+        c2d, a, b = forward.curveOnSurface(edge)
 
         def turned(T):
             uv = np.array([(p.x, p.y) for p in map(c2d.value, T)], float)
