@@ -184,6 +184,9 @@ def where(state, current, x, what="Points", name="the element"):
             u, v, d = dp.closest_uv(state.original, x)
         at = (u, v)
     _on(d, state.tol, what, name)
+    if state.kind == "Face" and state.trim is not None and not state.trim.isPartOfDomain(*at):
+        raise DeformError(f"{what} is on the surface of {name} but outside the face (beyond "
+                          "its trimmed boundary); pick a point on the face.", "Points")
     return at
 
 

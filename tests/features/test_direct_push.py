@@ -429,6 +429,19 @@ class TestRealModels(PushCase):
                                delta=1e-9 * housing.Faces[153].Area)
         self.push_face_of_solid(base, 153)
 
+    def test_a_point_of_the_surface_outside_the_trimmed_face_is_refused(self):
+        face = read("occt_Bottom.brep").Faces[9]
+        base = self.feature(face, "Trimmed")
+        u0, u1, v0, v1 = face.ParameterRange
+        uv = next((u0 + a * (u1 - u0), v0 + b * (v1 - v0)) for a in np.linspace(0, 1, 21)
+                  for b in np.linspace(0, 1, 21) if not face.isInside(
+                      face.Surface.value(u0 + a * (u1 - u0), v0 + b * (v1 - v0)), 1e-6, True))
+        point = face.Surface.value(*uv)
+        obj = fd.make_direct_push(base, "Face1", point, point + V(0, 0, 1))
+        self.assertIn("Invalid", obj.State)
+        self.assertIn("outside the face", obj.getStatusString())
+        self.assertIn("Points[0]", obj.getStatusString())
+
     def test_a_degenerated_edge_is_refused_by_name(self):
         housing = read("occt_Bottom.brep")
         index = next(i for i, e in enumerate(housing.Edges) if e.Degenerated)
