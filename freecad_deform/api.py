@@ -33,6 +33,7 @@ def _make(proxy_class, base, values):
     caller's, if one is open). A call that raises leaves the document as it was: the new
     object removed, the Base shown again, no transaction left open."""
     doc = base.Document
+    base_kind(base)  # an empty or unknown Base is refused before anything is opened
     own = doc.UndoMode > 0 and not (doc.HasPendingTransaction or App.getActiveTransaction())
     if own:
         doc.openTransaction(proxy_class.TYPE)
@@ -47,6 +48,8 @@ def _make(proxy_class, base, values):
     finally:
         if own:
             doc.commitTransaction() if done else doc.abortTransaction()
+            if App.getActiveTransaction():  # opened, nothing recorded: still active
+                App.closeActiveTransaction(not done)
         if not done:  # abortTransaction already removed it where undo is on
             if name is not None and doc.getObject(name) is not None:
                 doc.removeObject(name)

@@ -235,6 +235,21 @@ class ReliabilityTest(unittest.TestCase):
         self.doc.recompute()
         self.assertIn("empty", self.assert_refused(s, "Base"))
 
+    def test_make_on_an_empty_base_opens_no_transaction(self):
+        """An empty mesh as Base: make_* refuses it naming Base before anything is opened;
+        the application has no transaction left active (FreeCAD keeps one open when a
+        transaction was opened and nothing was recorded)."""
+        import Mesh
+        empty = self.doc.addObject("Mesh::Feature", "Empty")
+        empty.Mesh = Mesh.Mesh()
+        names = [o.Name for o in self.doc.Objects]
+        with self.assertRaises(ValueError) as raised:  # DeformError
+            fd.make_bend(empty, (V(20, 0, 0), V(1, 0, 0)), 30, (V(20, 0, 40), V(0, 1, 0)))
+        self.assertIn("Base", str(raised.exception))
+        self.assertEqual([o.Name for o in self.doc.Objects], names)
+        self.assertFalse(self.doc.HasPendingTransaction)
+        self.assertIsNone(App.getActiveTransaction())
+
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
             self.doc.UndoMode = undo_mode
