@@ -2,12 +2,13 @@
 # make demo : the headless demo job -> demo_out/
 # make bench: the timed benchmarks (never part of the tests)
 # make realparts: the real-parts matrix (issue 10) as a table
+# make reliability: the reliability campaign (issue 11), 60 cases per feature, as a table
 # make test-freecad11: make test again inside a Debian sid chroot with FreeCAD 1.1 (Qt6,
 #   Python 3.14); root; the chroot is built once in /var/cache/freecad_deform/sid (.ci/chroot-test)
 PY ?= /usr/bin/python3
 export QTWEBENGINE_CHROMIUM_FLAGS ?= --no-sandbox
 
-.PHONY: deps test demo bench test-freecad11 realparts
+.PHONY: deps test demo bench test-freecad11 realparts reliability
 deps:
 	@.ci/install-deps
 
@@ -31,3 +32,7 @@ bench: deps
 # the real-parts matrix (issue 10) as a table: case, result, oracle error, seconds, OCCT floor
 realparts: deps
 	$(PY) -m tests.realparts.matrix
+
+# the reliability campaign (issue 11): each case in its own process, classified; a table
+reliability: deps
+	$(PY) -m tests.reliability.campaign --per-feature 60
