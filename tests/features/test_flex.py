@@ -1,0 +1,223 @@
+"""Twist and Bend of regions whose outline changes (issue 14): the region between the planes
+goes through the space map; faces are refit or kept exact and sewn with the rest.
+
+Oracles written here: rotations, OCCT Volume/isValid/slice areas, Pappus summed over the
+region's sections, distances from exactly turned points of the Base to the result."""
+import os
+import tempfile
+import unittest
+
+from . import fc
+
+import FreeCAD as App  # noqa: E402
+import numpy as np  # noqa: E402
+import Part  # noqa: E402
+
+import freecad_deform as fd  # noqa: E402
+
+V = App.Vector
+
+
+def fan(blades=5, pitch=12.0):
+    """A hub (r 10, 60 long along z) carrying pitched blades: no outline is constant."""
+    shape = Part.makeCylinder(10, 60)
+    for k in range(blades):
+        blade = Part.makeBox(25, 2, 50, V(8, -1, 5))
+        blade.rotate(V(0, 0, 30), V(1, 0, 0), pitch)
+        blade.rotate(V(0, 0, 0), V(0, 0, 1), 360.0 * k / blades)
+        shape = shape.fuse(blade)
+    return shape.removeSplitter()
+
+
+def block_with_blind_holes():
+    """40 x 20 x 60 block, one hole from below ending at z = 40, one from above ending at 35."""
+    block = Part.makeBox(40, 20, 60)
+    return block.cut(Part.makeCylinder(3, 40, V(10, 10, 0))).cut(
+        Part.makeCylinder(3, 25, V(30, 10, 35)))
+
+
+def turned_part():
+    """A shaft with two grooves and two cavities (a cylinder and a sphere cut inside it)."""
+    shape = Part.makeCylinder(15, 80)
+    for z in (20, 50):
+        shape = shape.cut(Part.makeCylinder(15, 4, V(0, 0, z)).cut(
+            Part.makeCylinder(12, 4, V(0, 0, z))))
+    return shape.cut(Part.makeCylinder(5, 15, V(0, 0, 30))).cut(Part.makeSphere(6, V(0, 0, 60)))
+
+
+def turned_z(points, degrees, centre=(0.0, 0.0)):
+    a = np.radians(degrees)
+    p = np.asarray(points, float) - [centre[0], centre[1], 0]
+    return np.stack([np.cos(a) * p[:, 0] - np.sin(a) * p[:, 1],
+                     np.sin(a) * p[:, 0] + np.cos(a) * p[:, 1], p[:, 2]], 1) + [*centre, 0]
+
+
+def slice_face(shape, z):
+    wires = shape.slice(V(0, 0, 1), z)
+    return Part.makeFace(wires, "Part::FaceMakerBullseye")
+
+
+def random_points(shape, z0, z1, count, seed=0):
+    """Points spread over the faces of `shape` strictly between the planes z0 and z1."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for face in shape.Faces:
+        u0, u1, v0, v1 = face.ParameterRange
+        for _ in range(count):
+            u, v = rng.uniform(u0, u1), rng.uniform(v0, v1)
+            p = face.Surface.value(u, v)
+            if z0 + 1e-6 < p.z < z1 - 1e-6 and face.isPartOfDomain(u, v):
+                out.append(tuple(p))
+    return np.array(out)
+
+
+class TwistFan(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.doc = fc.new_document("FlexFan")
+        cls.base = cls.doc.addObject("Part::Feature", "Fan")
+        cls.base.Shape = fan()
+        cls.doc.recompute()
+        cls.twist = fd.make_twist(cls.base, (V(0, 0, 18), V(0, 0, 1)),
+                                  (V(0, 0, 42), V(0, 0, 1)), 20, axis=(V(0, 0, 0), V(0, 0, 1)))
+
+    @classmethod
+    def tearDownClass(cls):
+        App.closeDocument(cls.doc.Name)
+
+    def test_one_valid_solid_of_the_same_volume(self):
+        shape = self.twist.Shape
+        self.assertEqual(len(shape.Solids), 1)
+        self.assertTrue(shape.isValid())
+        self.assertLess(abs(shape.Volume / self.base.Shape.Volume - 1), 1e-6)
+
+    def test_sections_are_the_original_turned(self):
+        for s in (0.2, 0.5, 0.85):
+            z = 18 + 24 * s
+            got = slice_face(self.twist.Shape, z)
+            want = slice_face(self.base.Shape, z)
+            want.rotate(V(0, 0, 0), V(0, 0, 1), 20 * s)
+            self.assertLess(abs(got.Area / want.Area - 1), 1e-5)
+            self.assertLess(abs(got.common(want).Area / want.Area - 1), 1e-5)
+
+    def test_max_deviation_checked_at_random_points(self):
+        tol = self.twist.Tolerance.Value
+        self.assertLessEqual(self.twist.MaxDeviation, tol)
+        pts = random_points(self.base.Shape, 18, 42, 12)
+        s = (pts[:, 2] - 18) / 24
+        moved = np.vstack([turned_z(p[None], 20 * f) for p, f in zip(pts, s)])
+        result = self.twist.Shape
+        worst = max(result.distToShape(Part.Vertex(V(*p)))[0] for p in moved)
+        self.assertLessEqual(worst, tol)
+
+    def test_smooth_profile_is_g1_at_every_joint_and_reopens(self):
+        self.twist.Profile = "Smooth"
+        self.doc.recompute()
+        self.assertTrue(self.twist.Shape.isValid())
+        self.assertLess(abs(self.twist.Shape.Volume / self.base.Shape.Volume - 1), 1e-6)
+        kinds = {entry.split(": ")[1] for entry in self.twist.Continuity.split("; ")}
+        self.assertEqual(kinds, {"G1"})
+        folder = tempfile.mkdtemp()
+        self.doc.saveCopy(os.path.join(folder, "flex.FCStd"))
+        doc = App.openDocument(os.path.join(folder, "flex.FCStd"))
+        try:
+            obj = doc.getObject(self.twist.Name)
+            obj.touch()
+            doc.recompute()
+            self.assertEqual(obj.Profile, "Smooth")
+            self.assertTrue(obj.Shape.isValid())
+        finally:
+            App.closeDocument(doc.Name)
+        self.twist.Profile = "Linear"
+        self.doc.recompute()
+
+
+class BendBlindHoles(unittest.TestCase):
+    def test_pappus_along_the_region(self):
+        doc = fc.new_document("FlexBend")
+        try:
+            base = doc.addObject("Part::Feature", "Block")
+            base.Shape = block_with_blind_holes()
+            doc.recompute()
+            z0, z1, theta = 18.0, 42.0, 30.0
+            axis_point = np.array([100.0, 0, z0])
+            bend = fd.make_bend(base, (V(0, 0, z0), V(0, 0, 1)), theta,
+                                (V(*axis_point), V(0, 1, 0)), plane2=(V(0, 0, z1), V(0, 0, 1)))
+            shape = bend.Shape
+            self.assertTrue(shape.isValid())
+            self.assertEqual(len(shape.Solids), 1)
+            # the sections are constant between the holes' ends (35, 40): Gauss points
+            # in each piece sum A(s) r(s) exactly
+            length, total, region = z1 - z0, 0.0, 0.0
+            g = np.polynomial.legendre.leggauss(3)
+            for a, b in ((z0, 35.0), (35.0, 40.0), (40.0, z1)):
+                for x, w in zip(*g):
+                    z = 0.5 * (a + b) + 0.5 * (b - a) * x
+                    face = slice_face(base.Shape, z)
+                    r = axis_point[0] - face.CenterOfMass.x
+                    total += 0.5 * (b - a) * w * face.Area * r * np.radians(theta) / length
+                    region += 0.5 * (b - a) * w * face.Area
+            bent = shape.Volume - (base.Shape.Volume - region)
+            self.assertLess(abs(bent / total - 1), 1e-5)
+            self.assertLessEqual(bend.MaxDeviation, bend.Tolerance.Value)
+            # the far part turned exactly: the block's top corner
+            a = np.radians(theta)
+            corner = np.array([40.0, 20.0, 60.0]) - [0, 0, length] - axis_point
+            want = axis_point + [np.cos(a) * corner[0] + np.sin(a) * corner[2], corner[1],
+                                 -np.sin(a) * corner[0] + np.cos(a) * corner[2]]
+            nearest = min(np.linalg.norm(np.array(tuple(v.Point)) - want)
+                          for v in shape.Vertexes)
+            self.assertLess(nearest, 1e-9)
+        finally:
+            App.closeDocument(doc.Name)
+
+
+class TwistVoids(unittest.TestCase):
+    def test_cavities_are_kept(self):
+        doc = fc.new_document("FlexVoids")
+        try:
+            base = doc.addObject("Part::Feature", "Turned")
+            base.Shape = turned_part()
+            doc.recompute()
+            for profile in ("Linear", "Smooth"):
+                tw = fd.make_twist(base, (V(0, 0, 25), V(0, 0, 1)), (V(0, 0, 57), V(0, 0, 1)),
+                                   35, axis=(V(0, 0, 0), V(0, 0, 1)))
+                tw.Profile = profile
+                doc.recompute()
+                shape = tw.Shape
+                self.assertTrue(shape.isValid())
+                self.assertEqual([len(s.Shells) for s in shape.Solids], [3])
+                self.assertLess(abs(shape.Volume / base.Shape.Volume - 1), 1e-9)
+                self.assertLessEqual(tw.MaxDeviation, tw.Tolerance.Value)
+        finally:
+            App.closeDocument(doc.Name)
+
+
+class RealParts(unittest.TestCase):
+    def test_shelf_with_six_voids_smooth_twist_and_bend(self):
+        doc = fc.new_document("FlexShelf")
+        try:
+            base = doc.addObject("Part::Feature", "Shelf")
+            shape = Part.Shape()
+            shape.read(fc.testdata("fc_shelf.brep"))
+            base.Shape = shape
+            doc.recompute()
+            bb = shape.BoundBox
+            axis = int(np.argmax([bb.XLength, bb.YLength, bb.ZLength]))
+            n = V(*np.eye(3)[axis])
+            lo, length = [bb.XMin, bb.YMin, bb.ZMin][axis], [bb.XLength, bb.YLength,
+                                                             bb.ZLength][axis]
+            centre = np.array(tuple(bb.Center))
+            o1, o2 = centre.copy(), centre.copy()
+            o1[axis], o2[axis] = lo + 0.37 * length, lo + 0.63 * length
+            tw = fd.make_twist(base, (V(*o1), n), (V(*o2), n), 15)
+            tw.Profile = "Smooth"
+            doc.recompute()
+            self.assertTrue(tw.Shape.isValid())
+            self.assertEqual([len(s.Shells) for s in tw.Shape.Solids],
+                             [len(s.Shells) for s in shape.Solids])
+            self.assertLess(abs(tw.Shape.Volume / shape.Volume - 1), 1e-6)
+            self.assertTrue(tw.Continuity)
+            self.assertLessEqual(tw.MaxDeviation, tw.Tolerance.Value)
+        finally:
+            App.closeDocument(doc.Name)
