@@ -1,7 +1,8 @@
-"""Macro API: make_stretch(), make_bend(), make_twist(), make_dimension_drive(),
+"""Macro API: make_stretch(), make_bend(), make_twist(), make_taper(), make_dimension_drive(),
 make_area_constrain(), make_direct_push(). Each creates one feature in one
 transaction and recomputes; the keyword arguments are the object's properties."""
 import FreeCAD as App
+import numpy as np
 import numpy as np
 
 from .features.base import RESULT_TYPES, base_kind
@@ -10,6 +11,7 @@ from .features.bend import Bend
 from .features.dimension_drive import DimensionDrive
 from .features.direct_push import DirectPush
 from .features.stretch import Stretch
+from .features.taper import Taper
 from .features.twist import Twist
 from .shapes.convert import plane_placement
 
@@ -86,6 +88,21 @@ def make_twist(base, plane, plane2, angle, axis=None):
     if axis is not None:
         values.update(Axis=plane_placement(axis, "Axis"), UseAxis=True)
     return _make(Twist, base, values)
+
+
+def make_taper(base, plane, plane2, scale, axis=None):
+    """Taper the region of `base` between `plane` and `plane2`: scaled across the axis from 1
+    at `plane` to `scale` at `plane2` (a number, or (scale_x, scale_y) along the X and Y of
+    the axis frame); axis: (point, direction) or a Placement, default the plane normal
+    through the section's centroid."""
+    values = {"Plane": plane_placement(plane), "Plane2": plane_placement(plane2, "Plane2")}
+    if np.ndim(scale) == 0:
+        values["Scale"] = float(scale)
+    else:
+        values.update(UseScaleXY=True, ScaleX=float(scale[0]), ScaleY=float(scale[1]))
+    if axis is not None:
+        values.update(Axis=plane_placement(axis, "Axis"), UseAxis=True)
+    return _make(Taper, base, values)
 
 
 def _camel(name):

@@ -50,7 +50,10 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
     o, n, gap = smap.origin, smap.normal, smap.gap
     near, between, far = zones or brep.split_zones(solid, o, n, [0.0, gap])
     if not between:  # the solid lies before Plane or beyond Plane2
-        return (near + _moved(far, smap.end))[0], 0.0
+        if near or smap.rigid:
+            return (near + _moved(far, smap.end))[0], 0.0
+        faces, dev = _moved_faces([f for s in far for f in s.Faces], smap.end, tol)
+        return sewn_solid(faces, [], max(dev, tol), prop), dev
     cut, caps0 = _shared_on_plane(near, between, o, n)
     far_cut, caps1 = _shared_on_plane(far, between, o + gap * n, n)
     caps = caps0 + caps1
@@ -66,9 +69,11 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
                               f"by {dev:.3g} mm); raise Tolerance.", "Tolerance")
         mapped.append(new)
         worst = max(worst, dev)
+    moved, dev = _moved_faces([f for s in far for f in s.Faces
+                               if not any(f.isSame(c) for c in far_cut)], smap.end, fit_tol)
+    worst = max(worst, dev)
     faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)] + mapped
-             + _moved([f for s in far for f in s.Faces
-                       if not any(f.isSame(c) for c in far_cut)], smap.end))
+             + moved)
     end = smap.end
     joints = [(o, n), (end[:3, :3] @ (o + gap * n) + end[:3, 3],
                        _unit(np.linalg.inv(end[:3, :3]).T @ n))]
@@ -92,6 +97,17 @@ def _shared_on_plane(a, b, origin, normal):
 
 def _unit(v):
     return v / np.linalg.norm(v)
+
+
+def _moved_faces(faces, matrix, tol):
+    """(faces moved by a 4x4 transform, deviation): exact for a rigid one; under a scaling
+    refit like the region's faces (OCCT's own affine transform of a shape approximates
+    its circles to about 1e-3)."""
+    m = np.asarray(matrix, float)
+    if np.allclose(m[:3, :3].T @ m[:3, :3], np.eye(3), atol=1e-12):
+        return brep.transformed(faces, m), 0.0
+    out = [_fitted(f, lambda p: p @ m[:3, :3].T + m[:3, 3], tol) for f in faces]
+    return [f for f, _ in out], max([d for _, d in out], default=0.0)
 
 
 def _moved(shapes, matrix):
@@ -167,14 +183,15 @@ def map_face(face, smap, tol):
     """(mapped face, deviation measured between the fit samples)."""
     pts = _face_points(face)
     s = (pts - smap.origin) @ smap.normal / smap.gap
-    if np.ptp(s) < 1e-12:  # the whole face at one position: moved by A(s) exactly
-        return _moved([face], smap.matrices([np.clip(s.mean(), 0.0, 1.0)])[0])[0], 0.0
+    if np.ptp(s) < 1e-12:  # the whole face at one position: moved by A(s)
+        moved, dev = _moved_faces([face], smap.matrices([np.clip(s.mean(), 0.0, 1.0)])[0], tol)
+        return moved[0], dev
     if getattr(smap, "twist_axis", None) is not None and \
             face.Surface.TypeId in REVOLUTION and _coaxial(face.Surface, *smap.twist_axis):
         built = _turned_on_surface(face, smap, tol)
         if built is not None:
             return built
-    return _fitted(face, smap, tol)
+    return _fitted(face, lambda p: smap(p, clamp=False), tol)
 
 
 def _face_points(face, count=5):
@@ -279,14 +296,16 @@ def _bspline_form(surface):
     return form
 
 
-def _fitted(face, smap, tol):
-    """The face on a B-spline fitted to its mapped surface in its own parametrisation."""
+def _fitted(face, point_map, tol):
+    """The face on a B-spline fitted to its surface's points through `point_map` ((N, 3)
+    -> (N, 3); for a region face the map continued past the planes, so it is smooth over
+    the whole parameter rectangle), in the face's own parametrisation."""
     surface = face.Surface
     u0, u1, v0, v1 = face.ParameterRange
 
-    def mapped(U, V):  # the map continued past the planes: smooth over the whole rectangle
+    def mapped(U, V):
         pts = surface_grid(surface, U, V)
-        return smap(pts.reshape(-1, 3), clamp=False).reshape(pts.shape)
+        return point_map(pts.reshape(-1, 3)).reshape(pts.shape)
 
     ub, vb = _breaks(surface, u0, u1, 0), _breaks(surface, v0, v1, 1)
     fit = surface_fit.fit_surface(mapped, (u0, u1), (v0, v1), tol, degree=DEGREE,
