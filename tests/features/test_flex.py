@@ -221,3 +221,89 @@ class RealParts(unittest.TestCase):
             self.assertLessEqual(tw.MaxDeviation, tw.Tolerance.Value)
         finally:
             App.closeDocument(doc.Name)
+
+
+def stepped_shaft():
+    """r 15 for z 0..30, r 10 for 30..60, r 6 for 60..90."""
+    return Part.makeCylinder(15, 30).fuse(Part.makeCylinder(10, 30, V(0, 0, 30))).fuse(
+        Part.makeCylinder(6, 30, V(0, 0, 60))).removeSplitter()
+
+
+class TaperShaft(unittest.TestCase):
+    STEPS = ((20.0, 30.0, 15.0), (30.0, 60.0, 10.0), (60.0, 70.0, 6.0))
+
+    @classmethod
+    def setUpClass(cls):
+        cls.doc = fc.new_document("FlexTaper")
+        cls.base = cls.doc.addObject("Part::Feature", "Shaft")
+        cls.base.Shape = stepped_shaft()
+        cls.doc.recompute()
+        cls.taper = fd.make_taper(cls.base, (V(0, 0, 20), V(0, 0, 1)), (V(0, 0, 70), V(0, 0, 1)),
+                                  0.6)
+
+    @classmethod
+    def tearDownClass(cls):
+        App.closeDocument(cls.doc.Name)
+
+    def test_volume_is_the_integral_of_scaled_sections(self):
+        shape = self.taper.Shape
+        self.assertTrue(shape.isValid())
+        self.assertEqual(len(shape.Solids), 1)
+        x, w = np.polynomial.legendre.leggauss(4)
+        region = 0.0
+        for a, b, r in self.STEPS:  # A(s) scale(s)^2 is a quadratic on each step
+            z = 0.5 * (a + b) + 0.5 * (b - a) * x
+            k = 1 - 0.4 * (z - 20) / 50
+            region += 0.5 * (b - a) * np.sum(w * np.pi * r * r * k * k)
+        want = np.pi * 15 ** 2 * 20 + region + np.pi * 6 ** 2 * 20 * 0.36
+        self.assertLess(abs(shape.Volume / want - 1), 1e-5)
+        self.assertLessEqual(self.taper.MaxDeviation, self.taper.Tolerance.Value)
+
+    def test_sections_are_scaled(self):
+        for z, r in ((25, 15), (45, 10), (65, 6), (80, 6)):
+            k = 1 - 0.4 * min((z - 20) / 50, 1.0)
+            area = slice_face(self.taper.Shape, z).Area
+            self.assertLess(abs(area / (np.pi * r * r * k * k) - 1), 1e-5)
+
+    def test_two_scales_and_smooth_profile(self):
+        t = self.taper
+        t.UseScaleXY, t.ScaleX, t.ScaleY, t.Profile = True, 0.5, 1.2, "Smooth"
+        self.doc.recompute()
+        try:
+            self.assertTrue(t.Shape.isValid())
+            bb = slice_face(t.Shape, 80).BoundBox   # the far part: an ellipse 3 x 7.2
+            self.assertAlmostEqual(bb.XLength, 6.0, delta=1e-5)
+            self.assertAlmostEqual(bb.YLength, 14.4, delta=1e-5)
+            kinds = {entry.split(": ")[1] for entry in t.Continuity.split("; ")}
+            self.assertEqual(kinds, {"G1"})
+        finally:
+            t.UseScaleXY, t.Profile = False, "Linear"
+            self.doc.recompute()
+
+    def test_bad_scale_names_scale_and_keeps_the_base(self):
+        before = self.base.Shape.Volume
+        self.taper.Scale = -1.0
+        self.doc.recompute()
+        try:
+            self.assertIn("Invalid", self.taper.State)
+            self.assertEqual(self.base.Shape.Volume, before)
+        finally:
+            self.taper.Scale = 0.6
+            self.doc.recompute()
+        self.assertNotIn("Invalid", self.taper.State)
+
+    def test_mesh_vertices_map_exactly(self):
+        import Mesh
+        mesh = self.doc.addObject("Mesh::Feature", "ShaftMesh")
+        mesh.Mesh = Mesh.Mesh(stepped_shaft().tessellate(0.1))
+        self.doc.recompute()
+        t = fd.make_taper(mesh, (V(0, 0, 20), V(0, 0, 1)), (V(0, 0, 70), V(0, 0, 1)), 0.6,
+                          axis=(V(0, 0, 0), V(0, 0, 1)))
+        before = np.array([tuple(p) for p in mesh.Mesh.Topology[0]])
+        after = np.array([tuple(p) for p in t.Mesh.Topology[0]])
+        k = 1 - 0.4 * np.clip((before[:, 2] - 20) / 50, 0, 1)
+        want = before * np.stack([k, k, np.ones_like(k)], 1)
+        from scipy.spatial import cKDTree
+        self.assertEqual(len(after), len(before))            # FreeCAD reorders the points
+        self.assertLess(cKDTree(want).query(after)[0].max(), 1e-5)   # float32 storage
+        self.assertLess(cKDTree(after).query(want)[0].max(), 1e-5)
