@@ -19,6 +19,15 @@ def finite(x):
     return isinstance(x, (int, float)) and math.isfinite(x)
 
 
+def all_finite(value):
+    """False if a number anywhere in `value` (nested lists and dicts) is NaN or infinite."""
+    if isinstance(value, dict):
+        return all(all_finite(v) for v in value.values())
+    if isinstance(value, (list, tuple)):
+        return all(all_finite(v) for v in value)
+    return not isinstance(value, float) or math.isfinite(value)
+
+
 def number(lo, hi, extra=()):
     """Ordinary values in [lo, hi] and the hostile ones: zero, tiny, huge, NaN, infinite."""
     return st.one_of(st.floats(lo, hi, allow_nan=False), st.sampled_from(SPECIAL + extra))
@@ -53,6 +62,16 @@ def _plane_expect(p, name):
 
 
 SAMPLES = (-5, 0, 1, 2, 16, 64, 1000, 1001, 10 ** 6)
+# Case 3 separating polylines (in the xz plane, extruded along y): a fold, a point, NaN
+POLYLINES = ([[-5, 0, -10], [0, 0, 0], [5, 0, 10]], [[0, 0, 0]], [[0, 0, 0], [0, 0, 0]],
+             [[0, 0, -10], [NAN, 0, 10]], [])
+
+
+def keys():
+    """KeyPlacements: a few placements on the way (one far off, one turned, NaN)."""
+    key = st.builds(lambda x, t: {"o": [x, 0.0, 0.0], "n": [1, 0, 0], "turn": t},
+                    number(-10, 30), number(-90, 90))
+    return st.lists(key, max_size=3)
 
 
 @st.composite
@@ -61,7 +80,7 @@ def set_step(draw, props):
     name, values = draw(st.sampled_from(props))
     value = draw(values)
     step = {"do": "set", "values": {name: value}}
-    if isinstance(value, float) and not math.isfinite(value):
+    if not all_finite(value):
         step["expect"] = [name]
     return step
 
@@ -96,7 +115,9 @@ def stretch(draw):
                                  "n": p["n"]}
         expect += _plane_expect(p2, "Plane2")
     props = [("Distance", number(-60, 60)), ("Samples", st.sampled_from(SAMPLES)),
-             ("Plane", plane())]
+             ("Plane", plane()), ("KeyPlacements", keys()),
+             ("Interpolation", st.sampled_from(("Screw", "Rational", "Bogus"))),
+             ("Polyline", st.sampled_from(POLYLINES))]
     return _finish("stretch", draw(bases()), params, expect, draw(steps(props)),
                    draw(st.sampled_from((0, 1))))
 
@@ -110,7 +131,9 @@ def bend(draw):
     params = {"plane": p, "angle": draw(number(-400, 400, ANGLES)), "axis": axis}
     expect = _plane_expect(p, "Plane") + _plane_expect(axis, "Axis") + (
         [] if finite(params["angle"]) else ["Angle"])
-    props = [("Angle", number(-400, 400, ANGLES)), ("Samples", st.sampled_from(SAMPLES))]
+    props = [("Angle", number(-400, 400, ANGLES)), ("Samples", st.sampled_from(SAMPLES)),
+             ("KeyPlacements", keys()), ("Tolerance", number(0, 1)),
+             ("Profile", st.sampled_from(("Linear", "Smooth", "Bogus")))]
     return _finish("bend", draw(bases()), params, expect, draw(steps(props)),
                    draw(st.sampled_from((0, 1))))
 
@@ -126,8 +149,11 @@ def twist(draw):
     if draw(st.booleans()):
         direction = draw(st.sampled_from(((1, 0, 0), (1, 0, 1), (0, 1, 0), (1, 1e-9, 0))))
         params["axis"] = {"o": [0.0, draw(st.floats(-5, 5)), 0.0], "n": list(direction)}
-    props = [("Angle", number(-400, 400, ANGLES)), ("Turns", st.sampled_from((-3, 0, 2, 10 ** 6))),
-             ("Samples", st.sampled_from(SAMPLES))]
+    props = [("Angle", number(-400, 400, ANGLES)),
+             ("Turns", st.sampled_from((-3, 0, 2, 10 ** 6))),
+             ("Samples", st.sampled_from(SAMPLES)), ("Tolerance", number(0, 1)),
+             ("Profile", st.sampled_from(("Linear", "Smooth", "Bogus"))),
+             ("UseAxis", st.booleans())]
     return _finish("twist", draw(bases()), params, expect, draw(steps(props)),
                    draw(st.sampled_from((0, 1))))
 
