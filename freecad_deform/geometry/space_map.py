@@ -111,8 +111,11 @@ class SpaceMap:
         s = (pts - self.origin) @ self.normal / self.gap
         inside = pts[(s > 1e-6) & (s < 1 - 1e-6)]
         if len(inside) and np.min(self.jacobian_det(inside)) <= 0:
-            raise DeformError(f"The {self.profile} profile folds the region over itself "
-                              f"here; change {prop} or use the Linear Profile.", prop)
+            if self.profile == "Linear":
+                raise DeformError(f"The deformation folds the region over itself (part of it "
+                                  f"would pass through the axis); change {prop}.", prop)
+            raise DeformError(f"The {self.profile} profile folds the region over itself; "
+                              f"change {prop} to Linear or lower the deformation.", prop)
 
 
 def twist_map(origin, normal, gap, angle, axis_point, axis_direction, profile="Linear"):

@@ -393,6 +393,7 @@ def face_on_pcurves(surface, face, pcurve):
                 new.fixTolerance(max([edge.Tolerance] + [v.Tolerance for v in edge.Vertexes]))
                 made[edge] = new
                 edges.append(new)
+            _bridge_gaps(edges)
             built.append(Part.Wire(edges))
         result = Part.Face(surface, built[0])
         for wire in built[1:]:
@@ -404,6 +405,21 @@ def face_on_pcurves(surface, face, pcurve):
     if face.Orientation == "Reversed":
         result.reverse()
     return result if result.isValid() else None
+
+
+def _bridge_gaps(edges):
+    """Raise the tolerance of consecutive edges (in wire order) to cover the gap between
+    one's end and the next one's start: a real file's pcurves may miss each other by more
+    than its stated tolerances, and OCCT's wire builder joins only within them."""
+    def ends(e):
+        a, b = e.valueAt(e.FirstParameter), e.valueAt(e.LastParameter)
+        return (b, a) if e.Orientation == "Reversed" else (a, b)
+
+    for e1, e2 in zip(edges, edges[1:] + edges[:1]):
+        gap = (ends(e1)[1] - ends(e2)[0]).Length
+        if gap > 0.5 * min(e1.Tolerance, e2.Tolerance):
+            for e in (e1, e2):
+                e.fixTolerance(max(e.Tolerance, 2.0 * gap))
 
 
 # --- twist: surfaces of revolution about the axis ----------------------------------------
