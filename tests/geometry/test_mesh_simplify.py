@@ -2,7 +2,6 @@
 here: subdivided squares and cubes (exact counts, areas and normals), a capped cylinder (every
 original vertex within the tolerance, by an exact point-triangle distance) and the fandisk."""
 import os
-import time
 
 import numpy as np
 import pytest
@@ -354,12 +353,7 @@ def test_fandisk():
     V, T = read_obj(os.path.join(TESTDATA, "fandisk.obj"))
     L = segment(V, T)
     tolerance = 0.005 * np.linalg.norm(np.ptp(V, axis=0))
-    start = time.perf_counter()
-    S = simplify(V, T, L, tolerance)
-    elapsed = time.perf_counter() - start
-    print(f"\nfandisk: {len(np.unique(T))} vertices, {len(T)} triangles, {L.max() + 1} regions "
-          f"-> {len(np.unique(S.triangles))} vertices, {len(S.triangles)} triangles "
-          f"in {elapsed:.2f} s (tolerance {tolerance:.4g})")
+    S = simplify(V, T, L, tolerance)  # its time is measured in benchmarks/, not here
     check(V, T, L, S)
     assert set(S.labels.tolist()) == set(L.tolist())
     assert len(S.triangles) < len(T) / 10
@@ -367,4 +361,3 @@ def test_fandisk():
     # single vertices of a curved patch may lie farther (measured: max 2.6, RMS 0.30)
     d = distances(V, T, L, S)
     assert np.sqrt(np.mean(d * d)) <= 0.5 * tolerance and d.max() <= 3 * tolerance
-    assert elapsed < 3.0
