@@ -307,3 +307,49 @@ class TaperShaft(unittest.TestCase):
         self.assertEqual(len(after), len(before))            # FreeCAD reorders the points
         self.assertLess(cKDTree(want).query(after)[0].max(), 1e-5)   # float32 storage
         self.assertLess(cKDTree(after).query(want)[0].max(), 1e-5)
+
+
+class RealStepParts(unittest.TestCase):
+    """Smooth Twist and Bend across the middle of real STEP solids (the bracket, the
+    filleted machined part): one valid solid, voids and volume kept by the twist,
+    Continuity reported, MaxDeviation within Tolerance."""
+
+    def run_case(self, name, make):
+        doc = fc.new_document("FlexStep")
+        try:
+            base = doc.addObject("Part::Feature", "Part")
+            shape = Part.read(fc.testdata(name))
+            base.Shape = shape
+            doc.recompute()
+            bb = shape.BoundBox
+            axis = int(np.argmax([bb.XLength, bb.YLength, bb.ZLength]))
+            lo = [bb.XMin, bb.YMin, bb.ZMin][axis]
+            length = [bb.XLength, bb.YLength, bb.ZLength][axis]
+            o1, o2 = np.array(tuple(bb.Center)), np.array(tuple(bb.Center))
+            o1[axis], o2[axis] = lo + 0.37 * length, lo + 0.63 * length
+            n = np.eye(3)[axis]
+            obj = make(base, (V(*o1), V(*n)), (V(*o2), V(*n)), bb, axis)
+            obj.Profile = "Smooth"
+            doc.recompute()
+            result = obj.Shape
+            self.assertTrue(result.isValid())
+            self.assertEqual([len(s.Shells) for s in result.Solids],
+                             [len(s.Shells) for s in shape.Solids])
+            self.assertTrue(obj.Continuity)
+            self.assertLessEqual(obj.MaxDeviation, obj.Tolerance.Value)
+            return shape, result
+        finally:
+            App.closeDocument(doc.Name)
+
+    def test_bracket_twist(self):
+        shape, result = self.run_case(
+            "fc_Schenkel.stp", lambda base, p1, p2, bb, axis: fd.make_twist(base, p1, p2, 15))
+        self.assertLess(abs(result.Volume / shape.Volume - 1), 1e-6)
+
+    def test_filleted_part_bend(self):
+        def bend(base, p1, p2, bb, axis):
+            w = V(*np.eye(3)[(axis + 1) % 3])
+            centre = np.array(tuple(p1[0])) + np.eye(3)[(axis + 2) % 3] * 1.5 * max(
+                bb.XLength, bb.YLength, bb.ZLength)
+            return fd.make_bend(base, p1, -20, (V(*centre), w), plane2=p2)
+        self.run_case("nist_ftc_10_asme1_rb.stp", bend)
