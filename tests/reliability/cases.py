@@ -3,7 +3,8 @@ properties and Bases, and the issue's own cases as fixed examples.
 
 A case is JSON (runner.py runs it in its own process): {"feature", "base": {"shape",
 "as"}, "params": {...}, "steps": [...], "undo": 0|1, "expect": [...]}. `expect` lists the
-properties a refusal must name when the case put a NaN or infinite value there.
+properties the case put a NaN or infinite value in (for reading; the runner finds what a
+refusal must name from the object itself at the end).
 """
 import math
 

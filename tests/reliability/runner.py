@@ -5,7 +5,7 @@
 The last line of stdout is a JSON object: {"cls": ..., "problems": [...], "objects": [...]}.
 The parent (campaign.py) classifies a timeout as a hang and a death as a crash; this
 script classifies the rest. A case: {"feature", "base": spec, "params": {...},
-"steps": [...], "undo": 0|1, "expect": [property names a refusal may name]}.
+"steps": [...], "undo": 0|1}.
 
 Oracles are independent of the code under test: OCCT (isValid, Volume, Area, slice and a
 face maker, distToShape, the BOP check), closed forms (A*d, Pappus), the Base's own
@@ -47,6 +47,7 @@ FEATURE = {"Stretch": "stretch", "Bend": "bend", "Twist": "twist", "Taper": "tap
            "DimensionDrive": "dimension_drive", "AreaConstrain": "area_constrain",
            "DirectPush": "direct_push"}
 UNBOUNDED = ("Reachable",)
+EMPTY_MEANS_ALL = ("Poles",)  # AreaConstrain: no Poles listed frees every interior pole
 ERRORS = {}  # object name -> (exception type, prop, message) of its last execute
 
 
@@ -456,9 +457,33 @@ def _mesh_invariants(obj, case, pts):
     return []
 
 
+def _nonfinite(value):
+    if isinstance(value, (list, tuple)):
+        return any(_nonfinite(v) for v in value)
+    if hasattr(value, "Rotation"):
+        return _nonfinite(tuple(value.Base)) or _nonfinite(tuple(value.Rotation.Q))
+    if hasattr(value, "x") and hasattr(value, "z"):
+        return _nonfinite((value.x, value.y, value.z))
+    value = getattr(value, "Value", value)
+    return isinstance(value, float) and not math.isfinite(value)
+
+
+def expected(obj):
+    """The properties a refusal of `obj` must name, when it has a sure cause: those holding
+    NaN or infinity, and Base when it is the object itself or depends on it."""
+    out = [p.name for p in obj.Proxy.PROPERTIES if not p.output and p.name != "Base"
+           and not isinstance(getattr(obj, p.name), str) and _nonfinite(getattr(obj, p.name))]
+    base = obj.Base
+    try:
+        cyclic = base is not None and (base == obj or obj in base.OutListRecursive)
+    except IndexError:  # FreeCAD: cyclic dependency detected
+        cyclic = True
+    return out + (["Base"] if cyclic else [])
+
+
 def refusal_problem(obj, case):
     """None for a clean refusal: our DeformError, naming a property of the object that the
-    message contains (one of case["expect"] when the case knows which)."""
+    message contains (one of expected(obj) when the object has a sure cause)."""
     message = obj.getStatusString()
     kind, prop, text = ERRORS.get(obj.Name, (None, None, message))
     names = set(obj.PropertiesList)
@@ -470,13 +495,13 @@ def refusal_problem(obj, case):
         return f"message does not name its property {prop!r}: {message[:160]}"
     if any(r in message for r in RAW):
         return f"raw text in message: {message[:160]}"
-    lists = [n for n in names if n != prop and re.search(rf"\b{n}\b", message)
-             and isinstance(getattr(obj, n), list)]
+    lists = [n for n in names if n != prop and n not in EMPTY_MEANS_ALL
+             and re.search(rf"\b{n}\b", message) and isinstance(getattr(obj, n), list)]
     empty = [n for n in lists if not getattr(obj, n)]
     if empty and len(empty) == len(lists):  # it blames only what the object does not have
         return f"blames {empty}, which the object does not have: {message[:160]}"
-    expect = case.get("expect") or []
-    if expect and prop not in expect and obj.Name == case.get("_main"):
+    expect = expected(obj)
+    if expect and prop not in expect:
         return f"names {prop}, expected one of {expect}: {message[:160]}"
     return None
 
@@ -578,8 +603,10 @@ def _step(doc, obj, step, case, bases, names, problem):
                 continue
             held = getattr(obj, name)
             held = getattr(held, "Value", held)
+            # FreeCAD's PropertyLength holds no negative value (0 instead): not ours
+            clamped = "Length" in obj.getTypeIdOfProperty(name) and held == 0
             if isinstance(value, (int, float)) and isinstance(held, (int, float)) and \
-                    math.isfinite(value) and held != value:
+                    math.isfinite(value) and held != value and not (clamped and value < 0):
                 problem(("silent_wrong", f"{name} set to {value!r} holds {held!r}"))
         doc.recompute()
     elif kind == "self_link":
@@ -590,7 +617,6 @@ def _step(doc, obj, step, case, bases, names, problem):
             doc.recompute()
         if measure(obj) != before:
             problem(("silent_wrong", f"self-linked result changed: {before} -> {measure(obj)}"))
-        case.setdefault("expect", []).append("Base")
     elif kind == "cycle":
         try:  # a second feature on this one, then this one on it
             other = fd.make_stretch(obj, (V(0, 0, 0), V(1, 0, 0)), 5)
@@ -607,9 +633,9 @@ def _step(doc, obj, step, case, bases, names, problem):
         after = (measure(obj), measure(other))
         if after != before:
             problem(("silent_wrong", f"cycle grew: {before} -> {after}"))
-        case["expect"] = ["Base"]
     elif kind == "rebase":
         new = make_base(doc, step["base"], "Rebase")
+        names.append(new.Name)  # the case's own object: undo keeps it
         bases[new.Name] = (new, snapshot(new))
         obj.Base = new
         doc.recompute()
