@@ -1,6 +1,7 @@
 """What every Deform feature shares: its properties, saving, the base it reads, its errors."""
 import functools
 import math
+import sys
 from typing import Any, NamedTuple
 
 from ..geometry.errors import DeformError
@@ -67,7 +68,9 @@ def _finite(value):
         return _finite(tuple(value.Base)) and _finite(tuple(value.Rotation.Q))
     elif hasattr(value, "x") and hasattr(value, "z"):  # Vector
         return _finite((value.x, value.y, value.z))
-    return not isinstance(value, float) or math.isfinite(value)
+    # a length property clamps infinity to the largest float: that is infinity too
+    return not isinstance(value, float) or (math.isfinite(value)
+                                            and abs(value) < sys.float_info.max)
 
 
 def check_finite(obj, properties):

@@ -143,6 +143,15 @@ class ReliabilityTest(unittest.TestCase):
         t2 = fd.make_twist(bar, (V(0, 0, 20), V(0, 0, 1)), (V(0, 0, 80), V(0, 0, 1)), INF)
         self.assert_refused(t2, "Angle")
 
+    def test_infinite_length_is_refused(self):
+        """A PropertyLength clamps infinity to the largest float; that is refused as
+        infinite too (naming Tolerance), not squared into an OverflowError."""
+        t = fd.make_twist(self.box, (V(10, 0, 0), V(1, 0, 0)), (V(30, 0, 0), V(1, 0, 0)), 40)
+        self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
+        t.Tolerance = INF
+        self.doc.recompute()
+        self.assert_refused(t, "Tolerance")
+
     def test_samples_beyond_the_bound_are_refused(self):
         t = fd.make_twist(self.box, (V(10, 0, 0), V(1, 0, 0)), (V(30, 0, 0), V(1, 0, 0)), 40)
         for samples in (1, 10 ** 6):

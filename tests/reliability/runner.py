@@ -464,8 +464,8 @@ def _nonfinite(value):
         return _nonfinite(tuple(value.Base)) or _nonfinite(tuple(value.Rotation.Q))
     if hasattr(value, "x") and hasattr(value, "z"):
         return _nonfinite((value.x, value.y, value.z))
-    value = getattr(value, "Value", value)
-    return isinstance(value, float) and not math.isfinite(value)
+    value = getattr(value, "Value", value)  # PropertyLength clamps inf to the largest float
+    return isinstance(value, float) and not (math.isfinite(value) and abs(value) < 1.7e308)
 
 
 def expected(obj):
