@@ -13,10 +13,14 @@ from .base import DeformFeature, Prop
 
 
 def parse_poles(entries, shape):
-    """Flat pole indices of "i,j" entries (1-based, as getPole), or every interior pole."""
+    """Flat pole indices of "i,j" entries (1-based, as getPole); none: every interior pole,
+    or on a face with none (2 poles across: a ruled face) every pole but the corners."""
     nu, nv = shape
     if not entries:
-        return [i * nv + j for i in range(1, nu - 1) for j in range(1, nv - 1)]
+        if nu > 2 and nv > 2:
+            return [i * nv + j for i in range(1, nu - 1) for j in range(1, nv - 1)]
+        corners = {0, nv - 1, (nu - 1) * nv, nu * nv - 1}
+        return [m for m in range(nu * nv) if m not in corners]
     flat = []
     for entry in entries:
         try:
@@ -52,7 +56,8 @@ class AreaConstrain(DeformFeature):
              0.0),
         Prop("App::PropertyStringList", "Poles", "Poles",
              "The poles that may move, as 'i,j' (1-based, as getPole(i, j)); empty: every "
-             "interior pole."),
+             "interior pole (a face with none: every pole but the corners). Coincident "
+             "poles (a collapsed row) move as one; those on a pole that stays, stay."),
         Prop("App::PropertyEnumeration", "Dof", "Poles",
              "How a pole may move: Normal, along the control-net normal (one variable, "
              "keeps the shape closest); Z, along z only; Free, in 3D.", list(ac.DOFS)),
@@ -65,6 +70,15 @@ class AreaConstrain(DeformFeature):
              output=True),
         Prop("App::PropertyFloat", "AchievedArea", "Result",
              "Exact area of the new face, mm^2.", output=True),
+        Prop("App::PropertyFloat", "AreaError", "Result",
+             "Estimated error of AchievedArea (quadrature graded toward points where the "
+             "surface degenerates), mm^2.", output=True),
+        Prop("App::PropertyStringList", "NormalFallbacks", "Result",
+             "Poles 'i,j' with no control-net normal (coincident neighbours) that moved "
+             "along the surface normal at their Greville point instead.", output=True),
+        Prop("App::PropertyStringList", "HeldPoles", "Result",
+             "Poles 'i,j' in Poles that stayed: they coincide with a pole that stays (a "
+             "collapsed row of a degenerate edge).", output=True),
         Prop("App::PropertyInteger", "Iterations", "Result", "Newton iterations taken.",
              output=True),
         Prop("App::PropertyFloat", "MaxPoleMove", "Result",
@@ -97,10 +111,12 @@ class AreaConstrain(DeformFeature):
         if "not exact" in note:
             App.Console.PrintWarning(f"{obj.Label}: {obj.Face}: {note}.\n")
         arrays = bspline.surface_arrays(surface)
-        original = quadrature(arrays).area(arrays.poles)
         movable = parse_poles(list(obj.Poles), arrays.weights.shape)
+        ac.check_size(movable, obj.Dof)
+        q = quadrature(arrays, movable)
+        original = q.area(arrays.poles)
         solution = ac.constrain_surface_area(arrays, movable, self.target(obj, original),
-                                             obj.Dof, obj.Method)
+                                             obj.Dof, obj.Method, q)
         new_surface = bspline.with_poles(surface, solution.poles)
         new_face = Part.Face(new_surface)
         result = None
@@ -108,6 +124,9 @@ class AreaConstrain(DeformFeature):
             result = bspline.replaced(shape, index, new_face)
         moves = np.linalg.norm((solution.poles - arrays.poles).reshape(-1, 3), axis=1)
         outputs = {"OriginalArea": original, "AchievedArea": solution.area,
+                   "AreaError": solution.error,
+                   "NormalFallbacks": [f"{i},{j}" for i, j in solution.fallbacks],
+                   "HeldPoles": [f"{i},{j}" for i, j in solution.held],
                    "Iterations": solution.iterations, "MaxPoleMove": float(moves.max()),
                    "KKTResidual": solution.kkt, "Conversion": note,
                    "Replaced": result is not None}

@@ -246,9 +246,9 @@ def _kkt_step(W, g, t, c):
     return x[:n], float(x[n])
 
 
-def on_constraint(problem, target, direction):
-    """s * direction with Area = target, by Newton on s (the paper's feasible start)."""
-    s = 0.0
+def on_constraint(problem, target, direction, s=0.0):
+    """s * direction with Area = target, by Newton on s from `s` (the paper's feasible
+    start)."""
     for _ in range(MAX_ITERATIONS):
         a, g = problem.gradient(s * direction)
         slope = g @ direction
@@ -259,6 +259,24 @@ def on_constraint(problem, target, direction):
         step = (target - a) / slope
         s += np.clip(step, -abs(s) - 1.0, abs(s) + 1.0) if s else step
     raise _stalled(problem, target)
+
+
+def flat_start(problem, target):
+    """None, or where the area gradient vanishes at the start (a plane: no first-order
+    change along its normal) a point on the constraint along the Hessian's eigenvector of
+    largest curvature of the needed sign, and its multiplier."""
+    zero = np.zeros(problem.D.shape[1])
+    a, g = problem.gradient(zero)
+    extent = max(np.ptp(problem.Q.reshape(-1, 3), axis=0).max(), 1e-300)
+    if np.linalg.norm(g) > 1e-9 * a / extent or a == target:
+        return None
+    w, V = np.linalg.eigh(problem.hessian(zero))
+    k = int(np.argmax(w)) if target > a else int(np.argmin(w))
+    if w[k] * (target - a) <= 0:
+        raise _stalled(problem, target)
+    t = on_constraint(problem, target, V[:, k], np.sqrt(2 * (target - a) / w[k]))
+    _, g = problem.gradient(t)
+    return t, -float(t @ g) / float(g @ g)
 
 
 def penalty_newton(problem, target, weight=None):
@@ -314,7 +332,8 @@ def _stalled(problem, target):
                        "Poles or choose another Dof.", "TargetArea")
 
 
-def _check_size(movable, dof):
+def check_size(movable, dof):
+    """DeformError naming Poles when the solve would be too large for the dense solver."""
     variables = len(movable) * (3 if dof == "Free" else 1)
     if variables > MAX_VARIABLES:
         raise DeformError(f"{len(movable)} poles with Dof {dof} are {variables} variables, "
@@ -331,12 +350,14 @@ def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lag
                           "interior pole of a surface that has some).", "Poles")
     if not target > 0:
         raise DeformError("TargetArea must be positive.", "TargetArea")
-    _check_size(movable, dof)
+    check_size(movable, dof)
     problem = Problem(quadrature, poles, movable, dof)
     if method == "Lagrange-Newton":
         if start is not None:   # D has orthonormal columns: t = D^T (displacement)
             moved = (start.poles - problem.Q).reshape(-1, 3)[problem.movable].ravel()
             start = (problem.D.T @ moved, start.multiplier)
+        else:
+            start = flat_start(problem, target)
         t, lam, iterations = lagrange_newton(problem, target, start)
     elif method == "Penalty":
         t, lam, iterations = penalty_newton(problem, target)
@@ -350,12 +371,14 @@ def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lag
                     problem.fallbacks, held)
 
 
-def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagrange-Newton"):
+def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagrange-Newton",
+                           q=None):
     """constrain_area on a Surface, with a quadrature that holds for the result too: the
     nodes are chosen on the original surface, checked on the new one (`error` is that
-    check's estimate), and the solve is repeated on the finer nodes the new shape needs."""
-    _check_size(movable, dof)
-    q = quadrature(surface, movable)
+    check's estimate), and the solve goes on on the finer nodes the new shape needs.
+    q: quadrature(surface, movable) when already built."""
+    check_size(movable, dof)
+    q = quadrature(surface, movable) if q is None else q
     sol, iterations = None, 0
     for _ in range(MAX_ITERATIONS):
         sol = constrain_area(q, surface.poles, movable, target, dof, method, sol)

@@ -2,13 +2,13 @@
 (Xu, Joneja & Tang 2009, eq. 3-6).
 
 The area is the integral of |S_u x S_v| over the parameter rectangle. Every knot-span cell is
-integrated by tensor Gauss-Legendre with NODES and 2 * NODES nodes per direction; a cell
-where the two disagree by more than its share of the tolerance is split into four, and so
+integrated by tensor Gauss-Legendre, with two successive rules of RULES; where they disagree
+by more than the cell's share of the tolerance, the cell gets more nodes if the differences
+fall fast (a smooth integrand, e.g. a steep terrain), else it is split into four, and so
 on. Where |S_u x S_v| vanishes (a collapsed pole row, a degenerate corner) the integrand is
-not smooth and doubling the nodes converges slowly; the splitting grades the cells
-geometrically toward such points instead. The value kept is the NODES rule's and the
-difference is its error estimate (the finer rule converges much faster); the sum over the
-cells is the reported error.
+not smooth and more nodes converge slowly; the splitting grades the cells geometrically
+toward such points instead. The value kept is the coarser rule's and the difference is
+its error estimate (the finer rule converges faster); the sum is the reported error.
 
 The surface is linear in its poles: at each point S_u = sum Ru_m P_m over the (p+1)(q+1)
 poles of its cell, so gradient and Hessian are sums of small dense blocks per cell.
@@ -18,11 +18,10 @@ from typing import NamedTuple
 import numpy as np
 from scipy.sparse import csr_matrix
 
-NODES = 10              # Gauss-Legendre nodes per direction of the kept rule (check: twice)
-HESSIAN_NODES = 5       # nodes per direction for the Hessian
+RULES = np.array([10, 15, 20, 30, 40])   # Gauss-Legendre nodes per direction, in turn
 MAX_DEPTH = 48          # halvings of a knot-span cell, at most
-RTOL = 1e-14            # the area's relative tolerance
-CHUNK = 4096            # cells evaluated at once (bounds memory on large surfaces)
+RTOL = 1e-13            # the area's relative tolerance
+CHUNK = 1024            # cells evaluated at once (bounds memory on large surfaces)
 
 
 class Surface(NamedTuple):
@@ -86,6 +85,15 @@ class Rects(NamedTuple):
     su: np.ndarray
     sv: np.ndarray
     depth: np.ndarray
+    order: np.ndarray       # the rule kept: RULES[order] nodes per direction
+    value: np.ndarray       # its area when known (else NaN)
+    last: np.ndarray        # the last difference between rules (inf before any)
+
+    @staticmethod
+    def new(u0, u1, v0, v1, su, sv, depth):
+        n = len(u0)
+        return Rects(u0, u1, v0, v1, su, sv, depth, np.zeros(n, int), np.full(n, np.nan),
+                     np.full(n, np.inf))
 
     def take(self, mask):
         return Rects(*(a[mask] for a in self))
@@ -93,7 +101,7 @@ class Rects(NamedTuple):
     def split(self):
         """Each rectangle as its four quarters."""
         um, vm = (self.u0 + self.u1) / 2, (self.v0 + self.v1) / 2
-        parts = [Rects(a, b, c, d, self.su, self.sv, self.depth + 1)
+        parts = [Rects.new(a, b, c, d, self.su, self.sv, self.depth + 1)
                  for a, b in ((self.u0, um), (um, self.u1))
                  for c, d in ((self.v0, vm), (vm, self.v1))]
         return Rects(*(np.concatenate(a) for a in zip(*parts)))
@@ -110,7 +118,7 @@ def cells(surface):
     bv, sv = spans(s.vknots, s.vdegree)
     i, j = np.meshgrid(np.arange(len(su)), np.arange(len(sv)), indexing="ij")
     i, j = i.ravel(), j.ravel()
-    return Rects(bu[i], bu[i + 1], bv[j], bv[j + 1], su[i], sv[j], np.zeros(len(i), int))
+    return Rects.new(bu[i], bu[i + 1], bv[j], bv[j + 1], su[i], sv[j], np.zeros(len(i), int))
 
 
 def _rule(rects, surface, n):
@@ -144,46 +152,69 @@ def _local(rects, surface, poles):
 
 
 def _tangents(rule, P):
-    """S_u, S_v (R, n, n, 3) at the rule's nodes from the local poles P."""
+    """S_u, S_v (3, R, n, n) at the rule's nodes from the local poles P (batched matrix
+    products: the slow part of the adaptive quadrature on large surfaces)."""
     _, Nu, dNu, Nv, dNv = rule
-    A = np.einsum("ria,rabc->ribc", Nu, P)
-    Au = np.einsum("ria,rabc->ribc", dNu, P)
-    Su = np.einsum("ribc,rjb->rijc", Au, Nv)
-    Sv = np.einsum("ribc,rjb->rijc", A, dNv)
-    if P.shape[-1] == 3:
+    R, a, b, C = P.shape
+    n = Nu.shape[1]
+    flat = P.reshape(R, a, b * C)
+
+    def along_v(X, M):      # (R, n, b, C) with M (R, n, b) -> (C, R, n, n)
+        return np.matmul(X.transpose(3, 0, 1, 2), M.transpose(0, 2, 1)[None])
+    A = np.matmul(Nu, flat).reshape(R, n, b, C)
+    Au = np.matmul(dNu, flat).reshape(R, n, b, C)
+    Su, Sv = along_v(Au, Nv), along_v(A, dNv)
+    if C == 3:
         return Su, Sv
-    S = np.einsum("ribc,rjb->rijc", A, Nv)
-    W = S[..., 3:]
-    return (Su[..., :3] - Su[..., 3:] * S[..., :3] / W) / W, \
-        (Sv[..., :3] - Sv[..., 3:] * S[..., :3] / W) / W
+    S = along_v(A, Nv)
+    W = S[3]
+    return (Su[:3] - Su[3] * S[:3] / W) / W, (Sv[:3] - Sv[3] * S[:3] / W) / W
 
 
 def rect_areas(rects, surface, poles, n):
-    """Area of each rectangle by the n x n Gauss-Legendre rule."""
+    """Area of each rectangle by the n x n Gauss-Legendre rule (n: one per rectangle)."""
+    n = np.broadcast_to(n, rects.u0.shape)
+    out = np.empty(len(rects.u0))
+    for m in np.unique(n):
+        pick = np.flatnonzero(n == m)
+        out[pick] = _areas(rects.take(pick), surface, poles, int(m))
+    return out
+
+
+def _areas(rects, surface, poles, n):
     out = np.empty(len(rects.u0))
     for start in range(0, len(out), CHUNK):
         part = rects.take(slice(start, start + CHUNK))
         rule = _rule(part, surface, n)
-        Su, Sv = _tangents(rule, _local(part, surface, poles))
-        out[start:start + CHUNK] = np.einsum(
-            "rij,rij->r", rule[0], np.linalg.norm(np.cross(Su, Sv), axis=-1))
+        (ux, uy, uz), (vx, vy, vz) = _tangents(rule, _local(part, surface, poles))
+        f = np.sqrt((uy * vz - uz * vy) ** 2 + (uz * vx - ux * vz) ** 2 +
+                    (ux * vy - uy * vx) ** 2)
+        out[start:start + CHUNK] = (rule[0] * f).sum(axis=(1, 2))
     return out
 
 
 def adapt(rects, surface, poles, tolerance):
-    """Split rectangles until the NODES and 2 * NODES rules agree within tolerance(rects,
-    fine areas) each (or MAX_DEPTH is reached): (accepted Rects, their NODES-rule areas,
-    the differences: the estimated errors of those)."""
+    """Refine rectangles until two successive rules agree within tolerance(rects, fine
+    areas) each: more nodes while the differences fall fast (a smooth integrand: p), else
+    four quarters (a point where the integrand is not smooth: h), up to MAX_DEPTH.
+    Returns (accepted Rects, their kept rule's areas, the differences: those areas'
+    estimated errors)."""
     done, values, errors = [], [], []
     while len(rects.u0):
-        coarse = rect_areas(rects, surface, poles, NODES)
-        fine = rect_areas(rects, surface, poles, 2 * NODES)
+        n, m = RULES[rects.order], RULES[rects.order + 1]
+        coarse = np.where(np.isnan(rects.value), 0.0, rects.value)
+        todo = np.isnan(rects.value)
+        coarse[todo] = rect_areas(rects.take(todo), surface, poles, n[todo])
+        fine = rect_areas(rects, surface, poles, m)
         err = np.abs(fine - coarse)
         ok = (err <= tolerance(rects, fine)) | (rects.depth >= MAX_DEPTH)
-        done.append(rects.take(ok))
+        done.append(rects.take(ok)._replace(value=coarse[ok]))
         values.append(coarse[ok])
         errors.append(err[ok])
-        rects = rects.take(~ok).split()
+        more = ~ok & (rects.order + 2 < len(RULES)) & (err <= 0.01 * rects.last)
+        finer = rects.take(more)
+        finer = finer._replace(order=finer.order + 1, value=fine[more], last=err[more])
+        rects = Rects.join([finer, rects.take(~ok & ~more).split()])
     return Rects.join(done), np.concatenate(values), np.concatenate(errors)
 
 
@@ -211,8 +242,24 @@ class Nodes(NamedTuple):
         return Su, Sv, f, cross * inv[:, None], inv
 
 
-def nodes(surface, rects, n):
-    """The Nodes of the n x n rule on each rectangle (rects sorted by cell)."""
+def nodes(surface, rects, counts):
+    """The Nodes of the n x n rule on each rectangle, n = counts (one per rectangle),
+    sorted by cell."""
+    parts = [_nodes(surface, rects.take(counts == n), int(n)) for n in np.unique(counts)]
+    cell = np.concatenate([p[-1] for p in parts])
+    order = np.argsort(cell, kind="stable")
+    Ru, Rv, index, weights = (np.concatenate([p[k] for p in parts])[order] for k in range(4))
+    cell = cell[order]
+    starts = np.flatnonzero(np.r_[True, cell[1:] != cell[:-1]]) if len(cell) else \
+        np.zeros(0, int)
+    K, L = index.shape
+    indptr = np.arange(0, K * L + 1, L)
+    return Nodes(Ru, Rv, index, weights, starts,
+                 *(csr_matrix((R.ravel(), index.ravel(), indptr), (K, surface.weights.size))
+                   for R in (Ru, Rv)))
+
+
+def _nodes(surface, rects, n):
     s = surface
     weights, Nu, dNu, Nv, dNv = _rule(rects, s, n)
     L = (s.udegree + 1) * (s.vdegree + 1)
@@ -230,19 +277,14 @@ def nodes(surface, rects, n):
         W, Wu, Wv = R.sum(1), (Ru * w).sum(1), (Rv * w).sum(1)
         Ru = (Ru * w - R * (Wu / W)[:, None]) / W[:, None]
         Rv = (Rv * w - R * (Wv / W)[:, None]) / W[:, None]
-    cell = np.repeat(rects.su * (1 + rects.sv.max(initial=0)) + rects.sv, n * n)
-    starts = np.flatnonzero(np.r_[True, cell[1:] != cell[:-1]]) if len(cell) else \
-        np.zeros(0, int)
-    K, size = len(index), s.weights.size
-    indptr = np.arange(0, K * L + 1, L)
-    return Nodes(Ru, Rv, index, weights.ravel(), starts,
-                 *(csr_matrix((R.ravel(), index.ravel(), indptr), (K, size)) for R in (Ru, Rv)))
+    cell = np.repeat(rects.su * s.weights.shape[1] + rects.sv, n * n)
+    return Ru, Rv, index, weights.ravel(), cell
 
 
 class Quadrature:
     """The area as a fixed part (the cells no movable pole touches) plus a sum over the
     nodes of the other cells (`nodes`); the Hessian, which only steers Newton, uses the
-    lighter HESSIAN_NODES rule on the same rectangles (`light`)."""
+    rule with half the nodes on the same rectangles (`light`)."""
 
     def __init__(self, surface, rects, fixed, active_error, per_area, active):
         self.surface = surface
@@ -250,8 +292,9 @@ class Quadrature:
         self.fixed, self.error = fixed[0], fixed[1] + active_error
         self.per_area, self.active = per_area, active
         self.rects = rects.take(np.lexsort((rects.sv, rects.su)))
-        self.nodes = nodes(surface, self.rects, NODES)
-        self.light = nodes(surface, self.rects, HESSIAN_NODES)
+        n = RULES[self.rects.order]
+        self.nodes = nodes(surface, self.rects, n)
+        self.light = nodes(surface, self.rects, np.maximum(n // 2, 8))
 
     @property
     def count(self):
@@ -346,7 +389,7 @@ def quadrature(surface, movable=None, rtol=RTOL):
     summed once into a fixed part."""
     s = surface
     start = cells(s)
-    estimate = rect_areas(start, s, s.poles, 2 * NODES)
+    estimate = rect_areas(start, s, s.poles, RULES[0])
     total = float(np.sum(estimate))
     size = (s.uknots[-s.udegree - 1] - s.uknots[s.udegree]) * \
         (s.vknots[-s.vdegree - 1] - s.vknots[s.vdegree])

@@ -177,5 +177,106 @@ class TestShapes(AreaCase):
         self.assertAlmostEqual(again.AchievedArea / (1.02 * self.area0), 1, delta=1e-13)
 
 
+def part_surface(arrays):
+    """A Part.BSplineSurface from numpy arrays (tests/geometry/canopy.py)."""
+    def knots_mults(full):
+        k, m = np.unique(full, return_counts=True)
+        return [float(x) for x in k], [int(x) for x in m]
+    uk, um = knots_mults(arrays.uknots)
+    vk, vm = knots_mults(arrays.vknots)
+    s = Part.BSplineSurface()
+    s.buildFromPolesMultsKnots([[V(*p) for p in row] for row in arrays.poles.tolist()],
+                               um, vm, uk, vk, False, False, arrays.udegree, arrays.vdegree)
+    return s
+
+
+def graded_area(surface, toward):
+    """The area of a Part.BSplineSurface (non-rational) by scipy's BSpline on OCCT's poles
+    and knots, Gauss-Legendre (30 nodes) on every knot span and on a grid graded
+    geometrically toward the corner `toward` (u, v), where |S_u x S_v| -> 0."""
+    from ..geometry.canopy import own_area
+    from freecad_deform.geometry.bspline_area import Surface
+    full = [np.repeat(k, m) for k, m in ((surface.getUKnots(), surface.getUMultiplicities()),
+                                         (surface.getVKnots(), surface.getVMultiplicities()))]
+    arrays = Surface(poles(surface), np.ones((surface.NbUPoles, surface.NbVPoles)), *full,
+                     surface.UDegree, surface.VDegree)
+    return own_area(arrays, nodes=30, toward=toward)
+
+
+class TestRealSurfaces(AreaCase):
+    """IGES-like C1 bicubic faces (18 x 8 and 18 x 14 poles, inner knots doubled) with a
+    collapsed pole row (a degenerate edge) and a degenerate corner, and real files."""
+
+    def hood(self, nv):
+        from ..geometry.canopy import hood
+        obj = self.doc.addObject("Part::Feature", f"Hood{nv}")
+        obj.Shape = Part.Face(part_surface(hood(18, nv)))
+        self.doc.recompute()
+        return obj
+
+    def test_collapsed_row_default_normal_plus_three_percent(self):
+        for nv in (8, 14):
+            base = self.hood(nv)
+            obj = fd.make_area_constrain(base, "Face1", "103%")
+            self.assertValid(obj)
+            before, new = base.Shape.Faces[0].Surface, self.result_surface(obj)
+            self.assertAlmostEqual(obj.OriginalArea / graded_area(before, (1.0, 0.0)), 1,
+                                   delta=1e-10)
+            self.assertAlmostEqual(graded_area(new, (1.0, 0.0)) / (1.03 * obj.OriginalArea),
+                                   1, delta=1e-10)
+            self.assertEqual(list(obj.HeldPoles), [f"2,{j}" for j in range(2, nv)])
+            P = poles(new)
+            self.assertTrue(np.all(P[:2] == P[0, 0]))        # the degenerate edge stays
+            self.assertGreater(obj.AreaError, 0)
+            self.assertLess(obj.AreaError, 1e-11 * obj.OriginalArea)
+            self.assertLess(obj.KKTResidual, 1e-9)
+
+    def test_a_pole_without_net_normal_falls_back_to_the_surface_normal(self):
+        s = canopy_surface()
+        c = s.getPole(3, 3)
+        e = V(12, 7, 1)
+        for (i, j), f in (((2, 3), -1), ((4, 3), 1), ((3, 2), -0.5), ((3, 4), 0.5)):
+            s.setPole(i, j, c + e * f)
+        base = self.doc.addObject("Part::Feature", "Flat")
+        base.Shape = Part.Face(s)
+        self.doc.recompute()
+        obj = fd.make_area_constrain(base, "Face1", "102%", poles=[(3, 3), (4, 4)])
+        self.assertValid(obj)
+        self.assertEqual(list(obj.NormalFallbacks), ["3,3"])
+        uk, vk = s.getUKnots(), s.getVKnots()
+        full_u = np.repeat(uk, s.getUMultiplicities())
+        full_v = np.repeat(vk, s.getVMultiplicities())
+        n = s.normal(float(np.mean(full_u[3:6])), float(np.mean(full_v[3:6])))
+        d = self.result_surface(obj).getPole(3, 3) - c
+        self.assertGreater(d.Length, 0)
+        self.assertLess(d.cross(n).Length, 1e-9 * d.Length)
+        self.assertAlmostEqual(occt_area(self.result_surface(obj)) / (1.02 * occt_area(s)), 1,
+                               delta=1e-10)
+
+    def test_splinecage_faces_with_default_options(self):
+        base = self.doc.addObject("Part::Feature", "Cage")
+        shape = Part.Shape()
+        shape.read(fc.testdata("splinecage.stp"))
+        base.Shape = shape
+        self.doc.recompute()
+        for k, face in enumerate(shape.Faces):    # ruled 2 x n faces: no interior pole
+            obj = fd.make_area_constrain(base, f"Face{k + 1}", "103%")
+            self.assertValid(obj)
+            new = self.result_surface(obj)
+            corner = (new.getUKnots()[0], new.getVKnots()[0])
+            self.assertAlmostEqual(graded_area(new, corner) /
+                                   (1.03 * graded_area(face.Surface, corner)), 1, delta=1e-10)
+
+    def test_terrain_default_is_refused_naming_poles(self):
+        base = self.doc.addObject("Part::Feature", "Terrain")
+        shape = Part.Shape()
+        shape.read(fc.testdata("occt_terrain.brep"))
+        base.Shape = shape
+        self.doc.recompute()
+        obj = fd.make_area_constrain(base, "Face1", "101%")
+        self.assertIn("Invalid", obj.State)
+        self.assertRegex(obj.getStatusString(), r"99510 poles .* list in Poles")
+
+
 if __name__ == "__main__":
     unittest.main()

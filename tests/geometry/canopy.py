@@ -1,6 +1,7 @@
 """Test surfaces as numpy arrays: a bicubic canopy (clamped, uniform knots) and a rational
 quadratic cylinder patch whose area is known in closed form."""
 import numpy as np
+from scipy.interpolate import BSpline
 
 from freecad_deform.geometry.bspline_area import Surface
 
@@ -49,3 +50,29 @@ def hood(nu=18, nv=8, collapsed=2):
     P[:collapsed] = P[0, 0]
     P[-2, 0] = P[-1, 0] - 0.8 * (P[-1, 1] - P[-1, 0])
     return Surface(P, np.ones((nu, nv)), c1_knots(nu), c1_knots(nv), 3, 3)
+
+
+def own_area(s, poles=None, nodes=40, toward=None, levels=60):
+    """The area from scipy's BSpline on the poles themselves (non-rational); toward: a
+    corner (u, v) of the parameter square the grid is graded toward (2^-l, l < levels)."""
+    P = s.poles if poles is None else poles
+    x, w = np.polynomial.legendre.leggauss(nodes)
+
+    def grid(knots, end):
+        k = np.unique(knots)
+        if end is not None:
+            a, b = (k[0], k[1]) if end == k[0] else (k[-1], k[-2])
+            k = np.unique(np.r_[k, a + (b - a) * 2.0 ** -np.arange(1, levels)])
+        half = np.diff(k) / 2
+        return ((k[:-1] + k[1:])[:, None] / 2 + half[:, None] * x).ravel(), \
+            (half[:, None] * w).ravel()
+    u, wu = grid(s.uknots, None if toward is None else toward[0])
+    v, wv = grid(s.vknots, None if toward is None else toward[1])
+    su = BSpline(s.uknots, P, s.udegree)                # along u: coefficients (nv, 3) each
+    rows, drows = su(u), su.derivative()(u)           # (len(u), nv, 3)
+    sv = BSpline(s.vknots, np.moveaxis(rows, 1, 0), s.vdegree)
+    dsv = BSpline(s.vknots, np.moveaxis(drows, 1, 0), s.vdegree)
+    Su = dsv(v)                                        # (len(v), len(u), 3)
+    Sv = sv.derivative()(v)
+    f = np.linalg.norm(np.cross(Su, Sv), axis=2)
+    return float(wv @ f @ wu)
