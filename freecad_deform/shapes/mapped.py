@@ -77,7 +77,7 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
     end = smap.end
     joints = [(o, n), (end[:3, :3] @ (o + gap * n) + end[:3, 3],
                        _unit(np.linalg.inv(end[:3, :3]).T @ n))]
-    return sewn_solid(faces, joints, max(worst, tol), prop), worst
+    return sewn_solid(faces, joints, worst, prop), worst
 
 
 def _shared_on_plane(a, b, origin, normal):
@@ -129,7 +129,8 @@ def sewn_solid(faces, joints, deviation, prop):
         # edges farther apart than FreeCAD 0.20's sewing reaches (1e-6 mm, whatever it is
         # asked; a real file's own edge tolerances): a fuzzy general fuse of the faces
         # around the gaps shares them, then all is sewn again
-        fused = loose[0].generalFuse(loose[1:], tol)[0]
+        fuzzy = max([tol] + [2.0 * e.Tolerance for f in loose for e in f.Edges])
+        fused = loose[0].generalFuse(loose[1:], fuzzy)[0]
         keep = [f for f in sewn.Faces if not any(f.isSame(g) for g in loose)]
         sewn = _sewn(keep + fused.Faces, tol)
     shells = _closed_shells(sewn)
