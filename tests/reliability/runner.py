@@ -27,6 +27,7 @@ for _path in ("/usr/lib/freecad-python3/lib", "/usr/share/freecad/Mod/Part"):
 
 import FreeCAD as App  # noqa: E402
 import Mesh  # noqa: E402
+import MeshPart  # noqa: E402
 import Part  # noqa: E402
 import Points  # noqa: E402
 import numpy as np  # noqa: E402
@@ -134,8 +135,10 @@ def make_base(doc, spec, label="Base"):
         return obj
     if shape.isNull():
         pts, tris = [], []
-    elif shape.Faces:
-        pts, tris = shape.tessellate(spec.get("deflection", 1.0))
+    elif shape.Faces:  # small: 12 (box) to 1352 (torus) triangles
+        m = MeshPart.meshFromShape(Shape=shape, LinearDeflection=0.5, AngularDeflection=0.5)
+        pts = [p.Vector for p in m.Points]
+        tris = [f.PointIndices for f in m.Facets]
     else:
         pts, tris = shape.discretize(20) if shape.Edges else [shape.Vertexes[0].Point], []
     if kind == "points":

@@ -12,7 +12,7 @@ import random
 
 from . import campaign, cases
 
-PER_FEATURE = int(os.environ.get("DEFORM_RELIABILITY_CASES", "12"))
+PER_FEATURE = int(os.environ.get("DEFORM_RELIABILITY_CASES", "10"))
 
 
 def test_campaign():
