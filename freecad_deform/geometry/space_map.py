@@ -198,5 +198,7 @@ def stretch_map(origin, normal, gap, distance, profile="Linear"):
         return translation(np.asarray(t, float).reshape(-1)[:, None] * distance * n)
 
     transforms.vectorized = True
-    return SpaceMap(origin, normal, gap, transforms, profile,
+    smap = SpaceMap(origin, normal, gap, transforms, profile,
                     apply=lambda t, pts: pts + np.outer(t * distance, n))
+    smap.affine = profile == "Linear"  # one affine map over the region: planes stay planes
+    return smap

@@ -192,7 +192,35 @@ def map_face(face, smap, tol):
         built = _turned_on_surface(face, smap, tol)
         if built is not None:
             return built
-    return _fitted(face, lambda p: smap(p, clamp=False), tol)
+    built, dev = _fitted(face, lambda p: smap(p, clamp=False), tol)
+    if getattr(smap, "affine", False) and face.Surface.TypeId == "Part::GeomPlane":
+        return _on_plane(built, smap), dev
+    return built, dev
+
+
+def _on_plane(built, smap):
+    """The fitted image of a planar face under an affine map put back on a Part.Plane (the
+    plane through the mapped points; its edges lie on it to the fit's deviation)."""
+    import FreeCAD as App
+    u0, u1, v0, v1 = built.ParameterRange
+    p = smap.__call__(surface_grid(built.Surface, [u0, u1], [v0, v1]).reshape(-1, 3),
+                      clamp=False)
+    normal = np.cross(p[2] - p[0], p[1] - p[0])
+    if np.dot(normal, np.array(tuple(built.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))))) < 0:
+        normal = -normal
+    plane = Part.Plane(App.Vector(*p[0]), App.Vector(*normal))
+    forward = built.reversed() if built.Orientation == "Reversed" else built
+    try:
+        face = Part.Face(plane, forward.OuterWire)
+        for wire in forward.Wires:
+            if not wire.isSame(forward.OuterWire):
+                face = Part.Face(face, wire)
+    except Part.OCCError:
+        return built
+    if built.Orientation == "Reversed":
+        face.reverse()
+    return face if face.isValid() and abs(face.Area - built.Area) < 1e-6 * built.Area \
+        else built
 
 
 def _face_points(face, count=5):

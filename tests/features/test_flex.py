@@ -353,3 +353,21 @@ class RealStepParts(unittest.TestCase):
                 bb.XLength, bb.YLength, bb.ZLength)
             return fd.make_bend(base, p1, -20, (V(*centre), w), plane2=p2)
         self.run_case("nist_ftc_10_asme1_rb.stp", bend)
+
+
+class StretchMapPlanes(unittest.TestCase):
+    def test_affine_stretch_keeps_planes_and_adds_region_times_factor(self):
+        from freecad_deform.geometry import space_map
+        from freecad_deform.shapes import mapped
+        shape = block_with_blind_holes()
+        smap = space_map.stretch_map(np.array([0, 0, 18.0]), np.array([0, 0, 1.0]), 24, 12.0)
+        result, deviation = mapped.map_shape(shape, smap, 1e-3)
+        self.assertTrue(result.isValid())
+        holes = np.pi * 9 * (17 + 2 * 5 + 2)          # hole lengths inside 18..42
+        region = 40 * 20 * 24 - holes
+        self.assertLess(abs((result.Volume - shape.Volume) / (region * 0.5) - 1), 1e-6)
+        planes = [f for f in result.Faces if abs(f.normalAt(0, 0).z) < 1e-9
+                  and f.BoundBox.ZLength > 30]
+        self.assertGreaterEqual(len(planes), 4)      # the block's sides, stretched
+        self.assertTrue(all(f.Surface.TypeId == "Part::GeomPlane" for f in planes))
+        self.assertLessEqual(deviation, 1e-3)
