@@ -498,6 +498,11 @@ def refusal_problem(obj, case):
         return f"message does not name its property {prop!r}: {message[:160]}"
     if any(r in message for r in RAW):
         return f"raw text in message: {message[:160]}"
+    own = obj.Proxy.TYPE.lower()
+    foreign = [w for w in ("stretch", "bend", "twist", "taper") if w != own
+               and re.search(rf"\b{w}\b", message.lower())]
+    if foreign:  # e.g. "a stretch needs parallel planes" from a Bend
+        return f"speaks of a {foreign[0]}: {message[:160]}"
     lists = [n for n in names if n != prop and n not in EMPTY_MEANS_ALL
              and re.search(rf"\b{n}\b", message) and isinstance(getattr(obj, n), list)]
     empty = [n for n in lists if not getattr(obj, n)]
