@@ -385,7 +385,8 @@ def _rel(a, b, scale, tol):
 
 def _invariants(obj, case, before, after):
     """The feature's invariant, where cheap: Stretch A*d, Bend Pappus, Twist volume,
-    DirectPush targets reached, AreaConstrain area met."""
+    DirectPush targets reached, AreaConstrain area met; no self-intersection (OCCT's BOP
+    check) where a turn, scale or push can cause one."""
     f = FEATURE[obj.Proxy.TYPE]
     plain = not len(getattr(obj, "KeyPlacements", []))
     if f in ("stretch", "bend") and plain and not obj.UsePlane2 and before.Solids and \
@@ -417,17 +418,17 @@ def _invariants(obj, case, before, after):
         slack = 1e-6 * v0 + max(obj.MaxDeviation, obj.Tolerance.Value) * after.Area
         if abs(v1 - v0) > slack:
             return [f"twist volume {v1!r} != base volume {v0!r} (slack {slack:.3g})"]
+    if f in ("bend", "twist", "taper", "direct_push") and after.Solids:
+        try:  # a turn, a scale or a push can fold the part into itself
+            after.check(True)
+        except (ValueError, Part.OCCError) as e:
+            return [f"BOP check: {' '.join(str(e).split())[:120]}"]
     if f == "direct_push":
         problems = []
         for t in obj.Targets:
             d = after.distToShape(Part.Vertex(t))[0]
             if d > 1e-6:
                 problems.append(f"target {tuple(t)} missed by {d:.3g}")
-        if after.Solids:
-            try:
-                after.check(True)
-            except (ValueError, Part.OCCError) as e:
-                problems.append(f"BOP check: {str(e).strip()[:120]}")
         return problems
     if f == "area_constrain":
         target = obj.TargetRatio * obj.OriginalArea if obj.TargetRatio else obj.TargetArea.Value
