@@ -436,7 +436,8 @@ def _invariants(obj, case, before, after):
         face = after.Faces[index] if obj.Replaced else after.Faces[0]
         got = surface_area(face)
         if not _rel(got, target, target, 1e-6):
-            return [f"area {got!r} (quadrature of {'Face%d' % (index + 1) if obj.Replaced else 'the face'}) != target {target!r}"]
+            where = f"Face{index + 1}" if obj.Replaced else "the face"
+            return [f"area {got!r} (quadrature of {where}) != target {target!r}"]
     return []
 
 
