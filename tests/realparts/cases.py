@@ -409,12 +409,28 @@ def on_surface(V, surface, tol):
     return np.flatnonzero(near & (np.linalg.norm(V - hint, axis=1) <= reach))
 
 
-def pick(V, T, idx):
-    """A point on the mesh inside the selected surface: the centre of a triangle all of
-    whose corners are selected, nearest the selection's mean."""
-    inside = np.isin(T, idx).all(axis=1)
-    centres = V[T[inside]].mean(axis=1)
-    return centres[np.argmin(np.linalg.norm(centres - V[idx].mean(axis=0), axis=1))]
+def pick(V, T, idx, hint):
+    """(point, vertices): a point on the mesh inside the selected surface (the centre of a
+    triangle whose corners are all selected, nearest the hint) and the vertices of the
+    patch of such triangles connected to it through edges (one face, not a coplanar face
+    of another piece)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    inside = np.flatnonzero(np.isin(T, idx).all(axis=1))
+    tri = T[inside]
+    centres = V[tri].mean(axis=1)
+    start = int(np.argmin(np.linalg.norm(centres - hint, axis=1)))
+    edges = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+    owner = np.tile(np.arange(len(tri)), 3)
+    _, key = np.unique(edges, axis=0, return_inverse=True)
+    key = key.reshape(-1)
+    order = np.argsort(key, kind="stable")
+    same = key[order][1:] == key[order][:-1]
+    a, b = owner[order][1:][same], owner[order][:-1][same]
+    graph = coo_matrix((np.ones(len(a)), (a, b)), (len(tri), len(tri)))
+    _, label = connected_components(graph, directed=False)
+    patch = np.unique(tri[label == label[start]])
+    return centres[start], patch
 
 
 _DRIVES = {}
@@ -446,7 +462,9 @@ def run_dimension(case, doc, floor):
     for sf, idx in zip(surfaces, sel):
         if len(idx) < 6:
             raise AssertionError(f"the test's {sf[0]} near {sf[-2]} has {len(idx)} vertices")
-    regions = [V(*pick(V0, T0, idx)) for idx in sel]
+    picked = [pick(V0, T0, idx, sf[-2]) for sf, idx in zip(surfaces, sel)]
+    regions = [V(*p) for p, _ in picked]
+    sel = [patch for _, patch in picked]
     mdoc, base, obj = _drive_object(model, doc)
     t0 = time.perf_counter()
     if obj is None:
@@ -495,7 +513,8 @@ def run_dimension(case, doc, floor):
         ev = np.cross(nb, eu)
         achieved = float(np.linalg.norm([(foot - o) @ eu - target[0], (foot - o) @ ev - target[1]]))
         errors["hole round"] = (rms, fit_tol)
-        errors["hole radius kept"] = (abs(r - surfaces[1][3]), fit_tol)
+        errors["hole radius kept"] = (abs(r - mo.cylinder_fit(V0[sel[1]], surfaces[1][2])[2]),
+                                      fit_tol)
         target = 0.0
     errors["dimension"] = (abs(achieved - target), fit_tol)
     if kind != "Position":
