@@ -9,8 +9,10 @@ move; a trimmed face keeps its boundary in parameter space (rebuilt on its pcurv
 in a solid or shell also the poles that move that boundary stay, so the face goes back
 with its own edges and the solid stays closed.
 """
+from types import SimpleNamespace
 from typing import NamedTuple
 
+import FreeCAD as App
 import numpy as np
 import Part
 
@@ -99,9 +101,17 @@ def _edge_start(shape, inputs, tol):
     for t, x, (degrees, before, after) in corners:
         _check_angle(degrees, before, after)
         c, _ = dp.make_angle(c, t, np.radians(degrees), (before, after), x)
-    size = (inputs["Range"] if inputs["Range"] > 0 else p + 1) + 1
+    size = _size(inputs["Range"], p, len(c.poles) - 2)
     return State("Edge", original, c, c, size, fixed, spans, [t for t, _, _ in corners], [],
                  [], [], note, tol)
+
+
+def _size(value, degree, interior):
+    """Poles a push may move (per direction): Range + 1 (Range 0: degree + 2), at most
+    what the element has (dp.range_bound): a larger Range moves all of them."""
+    if value < 0:
+        raise DeformError(f"Range {value} is negative; give 0 (degree + 1) or more.", "Range")
+    return min((value if value > 0 else degree + 1) + 1, dp.range_bound(interior, degree))
 
 
 def _planar_few_edges(face):
@@ -164,7 +174,7 @@ def _face_start(shape, inputs, tol):
         _check_angle(degrees, before, after)
         s, held = dp.make_angle_surface(s, uv(x, f"Angles[{2 * i}]"), np.radians(degrees),
                                         (before, after), np.array(tuple(x)))
-    size = (inputs["Range"] if inputs["Range"] > 0 else max(s.udegree, s.vdegree) + 1) + 1
+    size = _size(inputs["Range"], max(s.udegree, s.vdegree), max(s.weights.shape) - 2)
     return State("Face", original, s, s, size, fixed, spans, [], held, [], [], note, tol,
                  surface, trim, boundary)
 
@@ -239,11 +249,45 @@ class Grab:
 
     def pushed(self, target):
         target = np.asarray(target, float)
-        if self.state.kind == "Edge":
-            return dp.push_curve(self.arrays, self.at, target, self.state.size, self.held,
-                                 self.groups)
-        return dp.push_surface(self.arrays, *self.at, target, self.state.size,
-                               self.state.fixed, self.groups, self.held)
+        try:
+            if self.state.kind == "Edge":
+                return dp.push_curve(self.arrays, self.at, target, self.state.size, self.held,
+                                     self.groups, dp.is_closed(self.state.original,
+                                                               self.state.tol))
+            return dp.push_surface(self.arrays, *self.at, target, self.state.size,
+                                   self.state.fixed, self.groups, self.held)
+        except DeformError as e:
+            if "contradict" not in str(e):
+                raise
+            raise self._contradiction(e) from None
+
+    def _contradiction(self, error):
+        """The contradiction named by what holds the poles the point depends on: an end of
+        the edge (Points), a Fixed point, a Straight span or an Angle; else too few poles
+        in Range."""
+        state, a = self.state, self.arrays
+        if state.kind == "Edge":
+            support = set(np.nonzero(dp.curve_row(a, self.at))[0].tolist())
+            fixed = [{dp.pole_at(a, t) + j for j in (-1, 0, 1)} for t in state.fixed]
+            p = a.degree
+            angles = [{dp.pole_at(a, t) + j for j in range(-p, p + 1)} for t in state.corners]
+            if support <= {0, len(a.poles) - 1}:
+                return DeformError("The point is an end of the edge, and the ends of an open "
+                                   "edge never move (its neighbours hold them); pick a point "
+                                   "inside the edge.", "Points")
+        else:
+            support = dp.influencing(a, [self.at])
+            fixed = [dp.influencing(a, [uv]) for uv in state.fixed]
+            angles = [set(state.held)]
+        for name, sets in (("Fixed", fixed), ("Angles", angles),
+                           ("Straight", [set(g) for g in self.groups])):
+            hit = [i for i, x in enumerate(sets) if x & support]
+            if hit:
+                entry = f"{name}[{hit[0]}]" if name == "Fixed" else name
+                return DeformError(f"The push and {entry} contradict each other: the point "
+                                   f"is on (or next to) what {name} holds in place; push "
+                                   f"farther from it or change {name}.", name)
+        return DeformError(f"{error} ".split(";")[0] + "; raise Range.", "Range")
 
 
 def replay(inputs, params=None):
@@ -263,9 +307,7 @@ def replay(inputs, params=None):
         try:
             current = grab.pushed(np.array(tuple(target)))
         except DeformError as e:
-            if e.prop != "Points":
-                raise
-            raise DeformError(f"Points[{i}]: {e}", "Points") from None
+            raise DeformError(f"Points[{i}]: {e}", e.prop) from None
     return state._replace(current=current)
 
 
@@ -316,6 +358,9 @@ class DirectPush(DeformFeature):
         Prop("App::PropertyInteger", "PoleCount", "Result",
              "Poles of the result (knots are inserted for fixed points, spans, angles and "
              "when a push needs more poles).", output=True),
+        Prop("App::PropertyInteger", "RangeUsed", "Result",
+             "The Range the pushes used: Range, or less when the element has fewer poles "
+             "(a larger Range moves all of its interior poles).", output=True),
         Prop("App::PropertyString", "Conversion", "Result",
              "How the element became a B-spline.", output=True),
     )
@@ -327,17 +372,76 @@ class DirectPush(DeformFeature):
         if len(obj.Points) != len(obj.Targets):
             raise DeformError(f"Points has {len(obj.Points)} entries and Targets "
                               f"{len(obj.Targets)}; give one target per point.", "Targets")
-        state = replay(inputs_of(obj))
+        inputs = inputs_of(obj)
+        state, result = self._build(obj, inputs)
         moves = _moves(state.start, state.current)
         outputs = {"MaxPoleMove": moves, "PoleCount": int(len(state.current.weights.ravel())),
-                   "Conversion": state.note}
+                   "Conversion": state.note, "RangeUsed": state.size - 1}
+        if state.kind == "Face" and len(obj.Targets) and self._cuts(obj, state, result):
+            raise self._unreachable(obj, inputs)
+        self._landed(obj, state, result)
+        return result, outputs
+
+    @staticmethod
+    def _landed(obj, state, result):
+        """The last target is on the result's element (OCCT rebuilt what was solved; an
+        earlier push's point may move with the later pushes)."""
+        if not len(obj.Targets):
+            return
+        element = result if state.kind == "Edge" or result.ShapeType == "Face" else \
+            result.Faces[bspline.face_of(obj.Base.Shape, obj.Element, "Element")[0]]
+        for i, t in list(enumerate(obj.Targets))[-1:]:
+            miss = element.distToShape(Part.Vertex(t))[0]
+            if miss > 10 * state.tol:
+                raise DeformError(f"Targets[{i}]: the pushed {obj.Element} as OCCT builds it "
+                                  f"misses this target by {miss:.3g} mm (a push this far "
+                                  "is beyond what the element can take); push less far.",
+                                  "Targets")
+
+    def _build(self, obj, inputs):
+        """(state, shape): the pushes of `inputs` replayed and the result built."""
+        state = replay(inputs)
         try:
             if state.kind == "Edge":
-                return bspline.curve_from_arrays(state.current).toShape(), outputs
-            return self._face(obj, state), outputs
+                return state, bspline.curve_from_arrays(state.current).toShape()
+            view = SimpleNamespace(Base=obj.Base, Element=obj.Element, Blend=obj.Blend,
+                                   Targets=inputs["Targets"])
+            return state, self._face(view, state)
         except Part.OCCError:   # OCCT refused the new curve or face
             raise DeformError(f"OCCT could not build the pushed {obj.Element}; push less far "
                               "or pick another point.", "Targets") from None
+
+    @staticmethod
+    def _cuts(obj, state, result):
+        """The pushed face of a solid or shell crosses another face of the result."""
+        shape = obj.Base.Shape
+        index = bspline.face_of(shape, obj.Element, "Element")[0]
+        if bspline.owner_of(shape, shape.Faces[index])[0] is None:
+            return False
+        return bspline.cuts_others(result, index, 10 * state.tol)
+
+    def _unreachable(self, obj, inputs, steps=7):
+        """The refusal of a push that makes the solid cut itself, with how far along the
+        last push the point can go (bisection on its length, to 1/2^steps of it)."""
+        k = len(inputs["Targets"]) - 1
+        p, t = np.array(tuple(inputs["Points"][k])), np.array(tuple(inputs["Targets"][k]))
+        length = float(np.linalg.norm(t - p))
+        lo, hi = 0.0, 1.0
+        for _ in range(steps):
+            mid = 0.5 * (lo + hi)
+            trial = dict(inputs, Targets=list(inputs["Targets"][:k]) +
+                         [App.Vector(*(p + mid * (t - p)))])
+            try:
+                state, result = self._build(obj, trial)
+                bad = self._cuts(obj, state, result)
+            except DeformError:
+                bad = True
+            lo, hi = (lo, mid) if bad else (mid, hi)
+        return DeformError(f"Targets[{k}]: pushed that far, {obj.Element} cuts through other "
+                           "faces of its solid (the result would intersect itself); along "
+                           f"this push the point can go about {lo * length:.3g} mm of the "
+                           f"{length:.3g} mm asked: set Targets[{k}] nearer to Points[{k}].",
+                           "Targets")
 
     def _face(self, obj, state):
         """The Base with the pushed face in place of the element (alone when the Base is

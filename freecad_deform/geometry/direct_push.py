@@ -261,11 +261,18 @@ def make_angle(c, t, angle, legs, corner=None):
     return c._replace(poles=P), sorted(set(before + after))
 
 
-def push_curve(c, t, target, size, held=(), groups=()):
+def is_closed(c, tol):
+    """The curve's two end poles coincide (a circle, a closed B-spline): its seam is an
+    ordinary point."""
+    return bool(np.linalg.norm(c.poles[0] - c.poles[-1]) <= tol)
+
+
+def push_curve(c, t, target, size, held=(), groups=(), closed=False):
     """The curve with C(t) moved exactly to `target`, moving at most `size` poles around t
     (never the two end poles, nor `held`), least-norm. `groups` are the poles of straight
     spans: a push on a span moves its group as one (it stays straight), a push beside it
-    leaves the group where it is."""
+    leaves the group where it is. On a `closed` curve a point that depends on the end
+    poles moves them together (the curve stays closed)."""
     n = len(c.poles)
     row = curve_row(c, t)
     on = [g for g in groups if np.any(row[g] > 0) and set(np.nonzero(row)[0]) <= set(g)]
@@ -273,19 +280,35 @@ def push_curve(c, t, target, size, held=(), groups=()):
     movable = [i for i in window(row, size, 1, n - 2) if i not in held]
     for g in on:
         movable += [i for i in g if i not in movable and 0 < i < n - 1 and i not in held]
+    groups = list(groups)
+    seam = closed and (row[0] > 0 or row[-1] > 0) and not held & {0, n - 1}
+    if seam:
+        movable += [0, n - 1]
+        groups.append([0, n - 1])
     d = np.asarray(target, float) - row @ c.poles
-    D = least_norm(n, movable, [row], [d], groups)
-    return c._replace(poles=c.poles + D)
+    P = c.poles + least_norm(n, movable, [row], [d], groups)
+    if seam:
+        P[-1] = P[0]
+    return c._replace(poles=P)
 
 
 def refine_curve(c, t, size):
-    """Insert knots next to t until the range has `size` movable (non-end) poles."""
+    """Insert knots next to t until the range has `size` movable (non-end) poles; stops
+    when a span around t is too short to split (knots closer than 1e-12 are one knot)."""
     while len(c.poles) - 2 < size:
         k = int(np.clip(np.searchsorted(c.knots, t, side="right") - 1, c.degree,
                         len(c.knots) - c.degree - 2))
         a, b = c.knots[k], c.knots[k + 1]
-        c = curve_with_knot(c, (a + b) / 2 if b > a else a, multiplicity(c.knots, (a + b) / 2) + 1)
+        if b - a <= 4e-12:
+            break
+        c = curve_with_knot(c, (a + b) / 2, multiplicity(c.knots, (a + b) / 2) + 1)
     return c
+
+
+def range_bound(n_interior, degree):
+    """The most poles a push may move along one direction: every interior pole of the
+    element, or degree + 2 (knots inserted) when it has fewer."""
+    return max(n_interior, degree + 2)
 
 
 # --- surfaces ---------------------------------------------------------------------------------
@@ -332,6 +355,8 @@ def refine_surface(s, u, v, size):
         while s.weights.shape[axis] - 2 < size:
             k = int(np.clip(np.searchsorted(knots, t, side="right") - 1, degree,
                             len(knots) - degree - 2))
+            if knots[k + 1] - knots[k] <= 4e-12:
+                break
             mid = (knots[k] + knots[k + 1]) / 2
             P, w = s.poles, s.weights
             if axis == 1:

@@ -489,3 +489,26 @@ def moved(surface, before, after):
         new.setPole(int(i) + 1, int(j) + 1, App.Vector(*after.poles[i, j]),
                     float(after.weights[i, j]))
     return new
+
+
+def cuts_others(shape, index, tol):
+    """True when face `index` of `shape` crosses another of its faces anywhere but along its
+    own boundary (a push through the opposite face): the section of that face with the
+    faces whose boxes meet it, every section point farther than `tol` (plus the edges'
+    tolerance) from the face's edges. Only the one face is sectioned, so the cost is
+    that of one Boolean section."""
+    face = shape.Faces[index]
+    box = face.BoundBox
+    box.enlarge(tol)
+    others = [f for i, f in enumerate(shape.Faces) if i != index and f.BoundBox.intersect(box)]
+    if not others:
+        return False
+    section = face.section(Part.Compound(others))
+    if not section.Vertexes:
+        return False
+    border = Part.Compound(face.Edges)
+    slack = tol + max([e.Tolerance for e in face.Edges] + [0.0])
+    points = [v.Point for v in section.Vertexes]
+    for e in section.Edges:
+        points += e.discretize(5)
+    return any(border.distToShape(Part.Vertex(p))[0] > slack for p in points)

@@ -390,3 +390,40 @@ def test_poles_compare_after_the_same_knots_are_inserted():
     c = wavy()
     longer = dp.curve_with_knot(c, 0.41, 2)
     assert np.abs(dp.with_knots_of(c, longer).poles - longer.poles).max() < 1e-12
+
+
+def test_refinement_terminates_when_the_spans_at_the_point_cannot_be_split():
+    """Issue 11: a huge Range halved the knot span at t below the knot tolerance and spun.
+    Refinement stops there; the curve is kept (scipy on both)."""
+    c = wavy()
+    refined = dp.refine_curve(c, 0.37, 10 ** 6)
+    assert len(refined.poles) < 200                   # about 40 halvings of one span
+    ts = np.linspace(0, 1, 101)
+    assert np.abs(at(refined, ts) - at(c, ts)).max() < 1e-9
+    s = dp.bezier_patch([(0, 0, 0), (10, 0, 0), (10, 10, 0), (0, 10, 0)])
+    assert min(dp.refine_surface(s, 0.5, 0.5, 10 ** 6).weights.shape) < 200
+    assert dp.range_bound(9, 3) == 9 and dp.range_bound(2, 3) == 5
+
+
+def closed_cubic(n=10):
+    """A closed clamped cubic: poles round a circle of radius 10, the last one the first."""
+    a = np.linspace(0, 2 * np.pi, n)
+    poles = np.column_stack([10 * np.cos(a), 10 * np.sin(a), np.zeros(n)])
+    poles[-1] = poles[0]
+    knots = np.r_[np.zeros(4), np.linspace(0, 1, n - 2)[1:-1], np.ones(4)]
+    return dp.Curve(poles, np.ones(n), knots, 3)
+
+
+@pytest.mark.parametrize("t", [0.0, 1.0, 0.01])
+def test_a_closed_curve_is_pushed_at_its_seam_and_stays_closed(t):
+    c = closed_cubic()
+    assert dp.is_closed(c, 1e-12)
+    target = at(c, t) + np.array([0.0, 1.0, 3.0])
+    new = dp.push_curve(c, t, target, c.degree + 2, closed=True)
+    assert np.abs(at(new, t) - target).max() < 1e-9
+    np.testing.assert_array_equal(new.poles[0], new.poles[-1])   # still closed
+    # an open curve refuses its end: only the (held) end pole carries it
+    if t == 0.0:
+        with pytest.raises(DeformError) as e:
+            dp.push_curve(c, t, target, c.degree + 2)
+        assert e.value.prop == "Points"
