@@ -273,7 +273,7 @@ class Grab:
             angles = [{dp.pole_at(a, t) + j for j in range(-p, p + 1)} for t in state.corners]
             if support <= {0, len(a.poles) - 1}:
                 return DeformError("The point is an end of the edge, and the ends of an open "
-                                   "edge never move (its neighbours hold them); pick a point "
+                                   "edge never move (its neighbours hold them); pick Points "
                                    "inside the edge.", "Points")
         else:
             support = dp.influencing(a, [self.at])
@@ -395,7 +395,8 @@ class DirectPush(DeformFeature):
             if miss > 10 * state.tol:
                 raise DeformError(f"Targets[{i}]: the pushed {obj.Element} as OCCT builds it "
                                   f"misses this target by {miss:.3g} mm (a push this far "
-                                  "is beyond what the element can take); push less far.",
+                                  f"is beyond what the element can take); move Targets[{i}] "
+                                  "nearer to its point.",
                                   "Targets")
 
     def _build(self, obj, inputs):
@@ -408,8 +409,8 @@ class DirectPush(DeformFeature):
                                    Targets=inputs["Targets"])
             return state, self._face(view, state)
         except Part.OCCError:   # OCCT refused the new curve or face
-            raise DeformError(f"OCCT could not build the pushed {obj.Element}; push less far "
-                              "or pick another point.", "Targets") from None
+            raise DeformError(f"OCCT could not build the pushed {obj.Element}; move the "
+                              "Targets nearer to their Points.", "Targets") from None
 
     @staticmethod
     def _cuts(obj, state, result):
@@ -457,7 +458,8 @@ class DirectPush(DeformFeature):
         owner, index = bspline.owner_of(shape, face)
         if owner is None:
             if len(obj.Blend):
-                raise DeformError("Blend needs a face of a solid or shell.", "Blend")
+                raise DeformError("Blend needs a face of a solid or shell; empty Blend or pick "
+                                  "such a face in Element.", "Blend")
             new = self._rebuilt(obj, state, surface)
             return new if shape.ShapeType == "Face" else shape.replaceShape([(face, new)])
         if not obj.Blend:
@@ -475,7 +477,7 @@ class DirectPush(DeformFeature):
             result = self._blended(obj, state, owner, index)
         if result is None:
             raise DeformError(f"{obj.Element} could not be joined to its neighbours again "
-                              "after the push; push less far or pick another point.",
+                              "after the push; move the Targets nearer to their Points.",
                               "Targets")
         return result if owner.isSame(shape) else shape.replaceShape([(owner, result)])
 
@@ -498,7 +500,8 @@ class DirectPush(DeformFeature):
         face = bspline.face_on(surface, state.trim, "Element")
         if face is None:
             raise DeformError(f"{obj.Element}: its trimmed boundary could not be laid on "
-                              "the pushed surface; push less far.", "Targets")
+                              "the pushed surface; move the Targets nearer to their "
+                              "Points.", "Targets")
         return face
 
     @staticmethod

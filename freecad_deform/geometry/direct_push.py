@@ -222,7 +222,7 @@ def make_straight(c, a, b):
     p0, p1 = evaluate(c, a), evaluate(c, b)
     d = p1 - p0
     if np.linalg.norm(d) == 0:
-        raise DeformError("A Straight span has no length; pick two different points.",
+        raise DeformError("A Straight span has no length; give Straight two different points.",
                           "Straight")
     d = d / np.linalg.norm(d)
     P = c.poles.copy()
@@ -251,8 +251,8 @@ def make_angle(c, t, angle, legs, corner=None):
     k = pole_at(c, t)
     before, after = list(range(k - p, k + 1)), list(range(k, k + p + 1))
     if before[0] < 0 or after[-1] >= len(c.poles):
-        raise DeformError("An angle needs degree poles on both sides of its corner; put it "
-                          "farther from the curve's ends.", "Angles")
+        raise DeformError("An angle needs degree poles on both sides of its corner; move "
+                          "the Angles corner farther from the curve's ends.", "Angles")
     P = c.poles.copy()
     o = P[k] if corner is None else np.asarray(corner, float)
     for idx, d, length in ((before[::-1], d1, legs[0]), (after, d2, legs[1])):
@@ -333,7 +333,7 @@ def push_surface(s, u, v, target, size, fixed=(), groups=(), held=()):
     if row[movable].sum() < 1e-3:   # the poles that may move would go >1000x as far
         raise DeformError("The grabbed point is on (or a hair from) the border of the face, "
                           "a degenerated edge or a boundary shared with the faces around it, "
-                          "where only poles that must stay move it; pick a point farther "
+                          "where only poles that must stay move it; pick Points farther "
                           "inside.", "Points")
     rows = [row]
     rhs = [np.asarray(target, float) - row @ s.poles.reshape(-1, 3)]
@@ -421,7 +421,7 @@ def _iso(a, b):
     axis = 0 if abs(a[0] - b[0]) >= abs(a[1] - b[1]) else 1
     lo, hi = sorted((a[axis], b[axis]))
     if hi - lo <= 0:
-        raise DeformError("A Straight span has no length; pick two different points.",
+        raise DeformError("A Straight span has no length; give Straight two different points.",
                           "Straight")
     return axis, 1 - axis, 0.5 * (a[1 - axis] + b[1 - axis]), lo, hi
 
@@ -482,7 +482,7 @@ def make_angle_surface(s, corner_uv, angle, legs, corner=None):
     nu, nv = s.weights.shape
     if j0 - q < 0 or j0 + q >= nv:
         raise DeformError("An angle needs degree rows of poles on both sides of its crease; "
-                          "put it farther from the face's border.", "Angles")
+                          "move the Angles corner farther from the face's border.", "Angles")
     P = s.poles.copy()
     if corner is not None:
         P[:, j0] += np.asarray(corner, float) - surface_row(s, u, v) @ s.poles.reshape(-1, 3)

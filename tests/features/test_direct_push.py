@@ -567,3 +567,98 @@ class TestRealModels(PushCase):
         obj = self.push_face_of_solid(base, index)
         self.assertEqual([len(s.Faces) for s in obj.Shape.Solids[0].Shells],
                          [len(s.Faces) for s in shelf.Solids[0].Shells])
+
+
+class TestReliability(PushCase):
+    """Issue 11: no hang, no silent wrong result, every refusal names its property."""
+
+    def assertRefused(self, obj, prop, *words):
+        message = obj.getStatusString()
+        self.assertIn("Invalid", obj.State, message)
+        for w in (prop,) + words:
+            self.assertIn(w, message)
+
+    def test_a_range_beyond_the_poles_moves_them_all(self):
+        """Range 50 (and 10^6) on an 8-pole curve: no hang (refinement halved one span
+        forever); RangeUsed says how many poles moved; the target is reached (OCCT)."""
+        curve = wavy_curve()
+        base = self.feature(curve.toShape(), "Curve")
+        point = curve.value(0.4 * curve.LastParameter)
+        for value in (50, 10 ** 6):
+            obj = fd.make_direct_push(base, "Edge1", point, point + V(0, 0, 3), range=value)
+            self.assertValid(obj)
+            self.assertEqual(obj.RangeUsed, curve.NbPoles - 2 - 1)   # all interior poles
+            self.assertLess(distance(obj.Shape, point + V(0, 0, 3)), 1e-7)
+            ends = [v.Point for v in obj.Shape.Vertexes]
+            self.assertEqual(ends[0], curve.StartPoint)
+            self.doc.removeObject(obj.Name)
+        obj = fd.make_direct_push(base, "Edge1", point, point + V(0, 0, 3), range=-1)
+        self.assertRefused(obj, "Range")
+
+    def test_a_push_through_the_opposite_face_is_refused_with_the_reachable_range(self):
+        """Box 20 x 20 x 10, top centre pushed 15 down: the bicubic top moves its four
+        interior poles alike, so its lowest point is the pushed centre and it touches the
+        bottom at exactly 10 mm. Refused naming Targets with that reach (to 2 %); a push
+        to 9.5 is accepted and OCCT's BOP check finds no self-intersection."""
+        box = self.feature(Part.makeBox(20, 20, 10), "Box")
+        obj = fd.make_direct_push(box, "Face6", V(10, 10, 10), V(10, 10, -5))
+        self.assertRefused(obj, "Targets", "intersect")
+        reach = float(obj.getStatusString().split("can go about ")[1].split(" mm")[0])
+        self.assertAlmostEqual(reach, 10.0, delta=0.2)
+        self.assertLessEqual(reach, 10.0)
+        obj.Targets = [V(10, 10, 0.5)]
+        self.doc.recompute()
+        self.assertValid(obj)
+        shape = obj.Shape
+        self.assertTrue(shape.isValid())
+        shape.check(True)                 # raises on a BOP self-intersection
+        self.assertLess(distance(shape, V(10, 10, 0.5)), 1e-7)
+        # the top's poles move by c (B1 + B2)(u) (B1 + B2)(v) with c (3/4)^2 = 9.5; each
+        # factor integrates to 1/2 over [0, 1]: the volume lost is c x 400 / 4
+        self.assertAlmostEqual(shape.Volume, 4000 - 9.5 * 16 / 9 * 100, delta=1e-6)
+        self.assertAlmostEqual(box.Shape.Volume, 4000.0, delta=1e-9)
+
+    def test_a_push_on_a_fixed_point_names_fixed(self):
+        curve = wavy_curve()
+        base = self.feature(curve.toShape(), "Curve")
+        fixed = curve.value(0.5 * curve.LastParameter)
+        obj = fd.make_direct_push(base, "Edge1", fixed, fixed + V(0, 0, 3), fixed=[fixed])
+        self.assertRefused(obj, "Fixed", "Fixed[0]", "contradict", "Points[0]")
+        box = self.feature(Part.makeBox(20, 20, 10), "Box")
+        obj = fd.make_direct_push(box, "Face6", V(10, 10, 10), V(10, 10, 12),
+                                  fixed=[V(10, 10, 10)])
+        self.assertRefused(obj, "Fixed", "contradict")
+
+    def test_a_circle_is_pushed_at_its_seam_and_stays_closed(self):
+        """Part.makeCircle(10) pushed at (10, 0, 0), its seam: the target is on the edge
+        (OCCT), the edge is closed, and the side of the circle opposite the seam stays
+        (OCCT converts the circle to one degree 14 span, so a push reaches far)."""
+        circle = self.feature(Part.makeCircle(10), "Circle")
+        obj = fd.make_direct_push(circle, "Edge1", V(10, 0, 0), V(10, 0, 3))
+        self.assertValid(obj)
+        edge = obj.Shape.Edges[0]
+        self.assertTrue(edge.isValid())
+        self.assertTrue(edge.isClosed())
+        self.assertLess(distance(edge, V(10, 0, 3)), 1e-7)
+        for a in np.linspace(0.9, 1.1, 5) * np.pi:
+            self.assertLess(distance(edge, V(10 * np.cos(a), 10 * np.sin(a), 0)), 1e-7)
+
+    def test_the_end_of_an_open_edge_names_points(self):
+        wire = self.feature(Part.makePolygon([V(-20, 0, 0), V(0, 5, 0), V(20, 0, 3)]), "Wire")
+        start = wire.Shape.Edges[1].Vertexes[0].Point
+        obj = fd.make_direct_push(wire, "Edge2", start, start + V(0, 0, 7.9))
+        self.assertRefused(obj, "Points", "end of the edge")
+        self.assertNotIn("Fixed", obj.getStatusString())
+
+    def test_a_push_beyond_what_occt_builds_names_targets(self):
+        """Box top pushed up by 10^6 mm with Range 4: the face OCCT builds missed the target
+        by 2.26 mm and the object said Up-to-date."""
+        box = self.feature(Part.makeBox(40, 20, 10, V(-20, -10, -5)), "Box")
+        face = box.Shape.Faces[5]
+        u0, u1, v0, v1 = face.ParameterRange
+        point = face.valueAt(u0 + (u1 - u0) / 3, v0 + 0.936 * (v1 - v0))
+        obj = fd.make_direct_push(box, "Face6", point, point + V(0, 0.88, 1e6), range=4)
+        if "Invalid" in obj.State:
+            self.assertRefused(obj, "Targets")
+        else:
+            self.assertLess(distance(obj.Shape.Faces[5], point + V(0, 0.88, 1e6)), 1e-3)
