@@ -322,6 +322,23 @@ def _moves(before, after):
         if after.poles.size else 0.0
 
 
+def _moved_region(before, after):
+    """(u0, u1, v0, v1): the parameter rectangle where the surface `after` differs from
+    `before` (the supports of the poles that moved), or None when none moved."""
+    if before.poles.shape != after.poles.shape:
+        before = dp.with_knots_of(before, after)
+        if before is None or before.poles.shape != after.poles.shape:
+            return (after.uknots[after.udegree], after.uknots[-after.udegree - 1],
+                    after.vknots[after.vdegree], after.vknots[-after.vdegree - 1])
+    i, j = np.nonzero(np.any(after.poles != before.poles, axis=2))
+    if not len(i):
+        return None
+    (p, U), (q, W) = (after.udegree, after.uknots), (after.vdegree, after.vknots)
+    # pole k's basis is nonzero on [U[k], U[k + p + 1]], within [U[p], U[n]]
+    return (float(U[max(i.min(), p)]), float(U[min(i.max() + p + 1, len(U) - p - 1)]),
+            float(W[max(j.min(), q)]), float(W[min(j.max() + q + 1, len(W) - q - 1)]))
+
+
 class DirectPush(DeformFeature):
     TYPE = "DirectPush"
     RESULT = "Part::FeaturePython"
@@ -419,7 +436,9 @@ class DirectPush(DeformFeature):
         index = bspline.face_of(shape, obj.Element, "Element")[0]
         if bspline.owner_of(shape, shape.Faces[index])[0] is None:
             return False
-        return bspline.cuts_others(result, index, 10 * state.tol)
+        region = _moved_region(state.start, state.current)
+        return region is not None and bspline.cuts_others(result, index, 10 * state.tol,
+                                                          region)
 
     def _unreachable(self, obj, inputs, steps=7):
         """The refusal of a push that makes the solid cut itself, with how far along the
