@@ -231,17 +231,25 @@ def lagrange_newton(problem, target, start=None):
 
 
 def _kkt_step(W, g, t, c):
-    """Solve [[W, g], [g^T, 0]] [dt, lambda] = [-t, -c]; W is shifted to be positive
-    definite (on the whole space, which is enough) so dt is a descent direction."""
+    """Solve [[W, g], [g^T, 0]] [dt, lambda] = [-t, -c]. W need only be positive definite
+    on the constraint's tangent space (then dt is a descent direction): W + sigma g g^T
+    positive definite for a large sigma says so; else W is shifted on the whole space.
+    (Shifting whenever W itself is indefinite made Newton crawl on large moves.)"""
     n = len(t)
-    shift = 0.0
-    while True:
+
+    def definite(M):
         try:
-            np.linalg.cholesky(W + shift * np.eye(n))
-            break
+            np.linalg.cholesky(M)
+            return True
         except np.linalg.LinAlgError:
-            shift = max(2 * shift, 1e-8 * max(1.0, np.abs(W).max()))
-    K = np.block([[W + shift * np.eye(n), g[:, None]], [g[None, :], np.zeros((1, 1))]])
+            return False
+    scale = max(1.0, np.abs(W).max())
+    if not definite(W) and not definite(W + 1e3 * scale / (g @ g) * np.outer(g, g)):
+        shift = 1e-8 * scale
+        while not definite(W + shift * np.eye(n)):
+            shift *= 2
+        W = W + shift * np.eye(n)
+    K = np.block([[W, g[:, None]], [g[None, :], np.zeros((1, 1))]])
     x = np.linalg.solve(K, np.concatenate([-t, [-c]]))
     return x[:n], float(x[n])
 
