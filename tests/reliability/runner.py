@@ -418,11 +418,12 @@ def _invariants(obj, case, before, after):
         slack = 1e-6 * v0 + max(obj.MaxDeviation, obj.Tolerance.Value) * after.Area
         if abs(v1 - v0) > slack:
             return [f"twist volume {v1!r} != base volume {v0!r} (slack {slack:.3g})"]
-    if f in ("bend", "twist", "taper", "direct_push") and after.Solids:
-        try:  # a turn, a scale or a push can fold the part into itself
-            after.check(True)
-        except (ValueError, Part.OCCError) as e:
-            return [f"BOP check: {' '.join(str(e).split())[:120]}"]
+    if f in ("bend", "twist", "taper", "direct_push"):
+        for k, solid in enumerate(after.Solids):
+            try:  # a turn, a scale or a push can fold a solid into itself
+                solid.check(True)
+            except (ValueError, Part.OCCError) as e:
+                return [f"BOP check of solid {k + 1}: {' '.join(str(e).split())[:120]}"]
     if f == "direct_push":
         problems = []
         for t in obj.Targets:
@@ -500,9 +501,11 @@ def refusal_problem(obj, case):
         return f"message does not name its property {prop!r}: {message[:160]}"
     if any(r in message for r in RAW):
         return f"raw text in message: {message[:160]}"
-    own = obj.Proxy.TYPE.lower()
+    own, text = obj.Proxy.TYPE.lower(), message
+    for o in obj.Document.Objects:  # labels ("Stretch001") are names, not words
+        text = text.replace(o.Label, "")
     foreign = [w for w in ("stretch", "bend", "twist", "taper") if w != own
-               and re.search(rf"\b{w}\b", message.lower())]
+               and re.search(rf"\b{w}\b", text.lower())]
     if foreign:  # e.g. "a stretch needs parallel planes" from a Bend
         return f"speaks of a {foreign[0]}: {message[:160]}"
     lists = [n for n in names if n != prop and n not in EMPTY_MEANS_ALL
