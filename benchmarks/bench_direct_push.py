@@ -6,6 +6,7 @@ Run from anywhere (FreeCAD 0.20 on Debian):
 
     /usr/bin/python3 benchmarks/bench_direct_push.py            # median of 5 runs
     /usr/bin/python3 benchmarks/bench_direct_push.py --quick    # 1 run
+    /usr/bin/python3 benchmarks/bench_direct_push.py --sweep    # every housing face
 
 Prints tables, asserts nothing about time. Both pushes move the poles around the point
 (5 x 5 for ours, the paper's m = degree + 1; the same index range for movePoint) so the
@@ -169,7 +170,52 @@ def real_rows(timer):
     return rows
 
 
+def sweep_rows():
+    """Every B-spline face of the cast housing pushed outward by 2 % of its size at the
+    inner point farthest from its edges (what tests/features/test_direct_push.py does on
+    five of them): per outcome the count, the median and largest recompute time and the
+    largest landing error; every accepted result checked valid, closed and outward
+    (OCCT's classifier halfway to the target)."""
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
+    from tests.features.test_direct_push import inner_point
+    shape = testdata("occt_Bottom.brep")
+    doc = App.newDocument("BenchDirectPushSweep")
+    base = doc.addObject("Part::Feature", "Base")
+    base.Shape = shape
+    outcomes = {}
+    try:
+        for index, face in enumerate(shape.Faces):
+            if face.Surface.TypeId != "Part::GeomBSplineSurface":
+                continue
+            point, normal = inner_point(face)
+            target = point + normal * (0.02 * face.BoundBox.DiagonalLength)
+            start = time.perf_counter()
+            obj = fd.make_direct_push(base, f"Face{index + 1}", point, target)
+            seconds = time.perf_counter() - start
+            if "Invalid" in obj.State:
+                kind, landed = "refused: " + obj.getStatusString()[:60], 0.0
+            else:
+                result = obj.Shape
+                landed = result.Faces[index].distToShape(Part.Vertex(target))[0]
+                mid = point + (target - point) * 0.5
+                ok = result.isValid() and result.Shells[0].isClosed() and \
+                    result.isInside(mid, 1e-9, True) and landed < 1e-7
+                kind = "accepted, oracles pass" if ok else f"accepted, ORACLE FAILS (Face{index + 1})"
+            outcomes.setdefault(kind, []).append((seconds, landed))
+            doc.removeObject(obj.Name)
+    finally:
+        App.closeDocument(doc.Name)
+    return [(kind, len(v), ms(float(np.median([t for t, _ in v]))), ms(max(t for t, _ in v)),
+             f"{max(d for _, d in v):.1e} mm") for kind, v in sorted(outcomes.items())]
+
+
 def main(argv):
+    if "--sweep" in argv:
+        print(machine_line())
+        print_table("Every B-spline face of the 323-face housing pushed (--sweep)",
+                    ("outcome", "faces", "median time", "max time", "max landing error"),
+                    sweep_rows())
+        return
     args, timer = options(argv, __doc__, budget=60.0)
     print(machine_line())
     print_table("One push on a 30x30-pole surface, and OCCT's movePoint in the same run",
