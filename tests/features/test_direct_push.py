@@ -34,30 +34,26 @@ def distance(shape, point):
 
 def assert_pushed_in_solid(case, before, after, index, target, land=1e-7):
     """One valid solid (or shell) with as many faces, closed when it was; the target on the
-    pushed face; every other face of the same type and area (1e-9 relative)."""
+    pushed face; every other face of the same type with its vertices in place (within
+    their tolerance), and of the same area (1e-9 relative) when its box meets the pushed
+    face's."""
     case.assertTrue(after.isValid())
     case.assertEqual(len(after.Faces), len(before.Faces))
     case.assertEqual(len(after.Solids), len(before.Solids))
     if before.Solids:
         case.assertTrue(after.Shells[0].isClosed())
     case.assertLess(distance(after.Faces[index], target), land)
-    for i, ((kind, area), b) in enumerate(zip(faces_of(before), after.Faces)):
+    near = before.Faces[index].BoundBox         # faces far from it: type and vertices
+    near.enlarge(1e-6 * before.BoundBox.DiagonalLength)
+    for i, (a, b) in enumerate(zip(before.Faces, after.Faces)):
         if i != index:
-            case.assertEqual(kind, b.Surface.TypeId)
-            case.assertAlmostEqual(area, b.Area, delta=1e-9 * b.Area)
-
-
-_FACES = {}
-
-
-def faces_of(shape):
-    """(surface type, area) of each face of `shape`, measured once per shape (a 323-face
-    housing takes about a second)."""
-    key = shape.hashCode()
-    if key not in _FACES:
-        _FACES.clear()
-        _FACES[key] = (shape, [(f.Surface.TypeId, f.Area) for f in shape.Faces])
-    return _FACES[key][1]
+            case.assertEqual(a.Surface.TypeId, b.Surface.TypeId)
+            case.assertEqual(len(a.Vertexes), len(b.Vertexes))
+            for x, y in zip(a.Vertexes, b.Vertexes):   # (sewn: within their tolerance)
+                case.assertLessEqual((x.Point - y.Point).Length,
+                                     max(1e-12, x.Tolerance, y.Tolerance))
+            if a.BoundBox.intersect(near):   # areas (0.5 s on the housing) near the face
+                case.assertAlmostEqual(a.Area, b.Area, delta=1e-9 * b.Area)
 
 
 class PushCase(unittest.TestCase):
