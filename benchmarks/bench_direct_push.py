@@ -200,7 +200,8 @@ def sweep_rows():
                 mid = point + (target - point) * 0.5
                 ok = result.isValid() and result.Shells[0].isClosed() and \
                     result.isInside(mid, 1e-9, True) and landed < 1e-7
-                kind = "accepted, oracles pass" if ok else f"accepted, ORACLE FAILS (Face{index + 1})"
+                kind = "accepted, oracles pass" if ok else \
+                    f"accepted, ORACLE FAILS (Face{index + 1})"
             outcomes.setdefault(kind, []).append((seconds, landed))
             doc.removeObject(obj.Name)
     finally:
