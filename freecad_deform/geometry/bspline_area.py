@@ -20,7 +20,7 @@ from scipy.sparse import csr_matrix
 
 RULES = np.array([10, 15, 20, 30, 40])   # Gauss-Legendre nodes per direction, in turn
 MAX_DEPTH = 48          # halvings of a knot-span cell, at most
-MAX_RECTS = 50000       # rectangles, at most (|S_u x S_v| = 0 along a curve: a fold)
+MAX_RECTS = 4000        # rectangles, at most (|S_u x S_v| = 0 along a curve: a fold)
 RTOL = 1e-13            # the area's relative tolerance
 LARGE = 20000           # cells beyond which the fixed cells get one pair of rules
 FIXED_RULES = (16, 20)
