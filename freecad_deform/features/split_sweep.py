@@ -203,15 +203,21 @@ def keyed(obj, kind, origin, normal, gap, motion):
 
 
 def sections(solids, origin, normal, offsets):
-    """The cross-section faces of `solids` at each offset along `normal` (one list each)."""
+    """The cross-section faces of `solids` at each offset along `normal` (one list each),
+    solid by solid: the solids of an assembly may overlap, and one face maker over all their
+    wires would nest one solid's outline in another's."""
     import Part
     import FreeCAD as App
     n = App.Vector(*normal)
     out = []
     for off in offsets:
         d = float(np.dot(origin + off * normal, normal))
-        wires = [w for s in solids for w in s.slice(n, d)]
-        out.append(Part.makeFace(wires, "Part::FaceMakerBullseye").Faces if wires else [])
+        faces = []
+        for solid in solids:
+            wires = solid.slice(n, d)
+            if wires:
+                faces += Part.makeFace(wires, "Part::FaceMakerBullseye").Faces
+        out.append(faces)
     return out
 
 
