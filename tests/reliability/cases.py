@@ -30,15 +30,18 @@ def all_finite(value):
 
 
 def number(lo, hi, extra=()):
-    """Ordinary values in [lo, hi] and the hostile ones: zero, tiny, huge, NaN, infinite."""
-    return st.one_of(st.floats(lo, hi, allow_nan=False), st.sampled_from(SPECIAL + extra))
+    """Ordinary values in [lo, hi] (three draws in four) and the hostile ones: zero, tiny,
+    huge, NaN, infinite."""
+    ordinary = st.floats(lo, hi, allow_nan=False)
+    return st.one_of(ordinary, ordinary, ordinary, st.sampled_from(SPECIAL + extra))
 
 
 def bases(kinds=("shape", "mesh", "points")):
     """A primitive as a shape, or tessellated into a small mesh or point cloud."""
-    return st.builds(lambda s, a: {"shape": s, "as": a}, st.sampled_from(SHAPES),
-                     st.sampled_from(kinds)) | st.sampled_from(
-        [{"shape": s} for s in SOLIDS] + [{"shape": "box", "as": "degenerate_mesh"}])
+    solids = st.sampled_from([{"shape": s} for s in SOLIDS])
+    return st.one_of(solids, solids, st.builds(lambda s, a: {"shape": s, "as": a},
+                                               st.sampled_from(SHAPES), st.sampled_from(kinds)),
+                     st.just({"shape": "box", "as": "degenerate_mesh"}))
 
 
 NORMALS = ((1, 0, 0), (1, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (1, 0.2, 0.1),
@@ -103,6 +106,9 @@ def _finish(feature, base, params, expect, step_list, undo):
 
 
 ANGLES = (360.0, 720.0, -720.0, 1e6, 90.0, -90.0)
+# the distance between Plane and Plane2: ordinary first (hypothesis's simplest draws come
+# from the first branch), then the hostile ones
+GAP = st.one_of(st.floats(2, 30), number(-5, 30))
 
 
 @st.composite
@@ -142,9 +148,10 @@ def bend(draw):
 @st.composite
 def twist(draw):
     p = draw(plane(offset=draw(st.floats(-15, 5))))
-    gap = draw(number(-5, 30))
+    gap = draw(GAP)
     p2 = {"o": [p["o"][0] + gap, p["o"][1], p["o"][2]], "n": p["n"]}
-    params = {"plane": p, "plane2": p2, "angle": draw(number(-400, 400, ANGLES))}
+    params = {"plane": p, "plane2": p2,
+              "angle": draw(st.one_of(st.floats(5, 170), number(-400, 400, ANGLES)))}
     expect = _plane_expect(p, "Plane") + _plane_expect(p2, "Plane2") + (
         [] if finite(params["angle"]) else ["Angle"])
     if draw(st.booleans()):
@@ -162,9 +169,10 @@ def twist(draw):
 @st.composite
 def taper(draw):
     p = draw(plane(offset=draw(st.floats(-15, 5))))
-    gap = draw(number(-5, 30))
+    gap = draw(GAP)
     p2 = {"o": [p["o"][0] + gap, p["o"][1], p["o"][2]], "n": p["n"]}
-    params = {"plane": p, "plane2": p2, "scale": draw(number(-2, 3))}
+    params = {"plane": p, "plane2": p2,
+              "scale": draw(st.one_of(st.floats(0.3, 3), number(-2, 3)))}
     expect = _plane_expect(p, "Plane") + _plane_expect(p2, "Plane2") + (
         [] if finite(params["scale"]) else ["Scale"])
     return _finish("taper", draw(bases()), params, expect, draw(steps([
