@@ -57,10 +57,15 @@ def planes(obj, require_plane2=False):
     if not (require_plane2 or obj.UsePlane2):
         return origin, normal, None
     origin2, normal2 = plane_arrays(obj.Plane2)
-    return origin, normal, parallel_gap(origin, normal, origin2, normal2)
+    gap = parallel_gap(origin, normal, origin2, normal2)
+    if gap <= 10 * brep.TOL:
+        raise DeformError(f"Plane2 is only {gap:.3g} beyond Plane, within ten times the "
+                          f"modelling tolerance: no region lies between them; move Plane2.",
+                          "Plane2")
+    return origin, normal, gap
 
 
-MAX_SAMPLES = 1000  # profiles of a sweep; the meshes' cost grows with them
+MAX_SAMPLES = 200  # profiles of a sweep; a mesh band cut at every one grows with their square
 
 
 def check_samples(obj, least):

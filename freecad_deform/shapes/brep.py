@@ -88,7 +88,7 @@ def loose_parts(shape):
         return []
     if shape.ShapeType == "Compound":
         return [p for child in shape.childShapes() for p in loose_parts(child)]
-    return [shape]
+    return [shape.copy()]  # booleans and sewing would raise the Base's own tolerances
 
 
 def split_loose(parts, origin, normal, offsets):
@@ -489,7 +489,8 @@ def crossing_faces(shape, origin, normal):
     for i, face in enumerate(shape.Faces, start=1):
         lo, hi = extent(face, origin, normal)
         if lo < -TOL and hi > TOL:
-            edges = [e for w in face.slice(vector(normal), float(np.dot(origin, normal)))
+            # a copy: slicing raises the tolerances of the face's own vertices (the Base's)
+            edges = [e for w in face.copy().slice(vector(normal), float(np.dot(origin, normal)))
                      for e in w.Edges]
             if edges:
                 found.append((f"Face{i}", face, edges))

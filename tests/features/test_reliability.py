@@ -259,6 +259,26 @@ class ReliabilityTest(unittest.TestCase):
         self.assertFalse(self.doc.HasPendingTransaction)
         self.assertIsNone(App.getActiveTransaction())
 
+    def test_oblique_plane_through_base_vertices_keeps_its_tolerances(self):
+        """The issue's case: plane x + 2y = 0 through four vertices of a box (and a compound
+        with a free face): the Base's vertex, edge and face tolerances stay 1e-7."""
+        sheet = Part.Face(Part.makePolygon([V(-10, 30, 0), V(10, 30, 0), V(10, 30, 10),
+                                            V(-10, 30, 10), V(-10, 30, 0)]))
+        self.box.Shape = Part.makeCompound([Part.makeBox(40, 20, 10, V(-20, -10, 0)), sheet])
+        tolerances = [x.Tolerance for x in self.box.Shape.Vertexes + self.box.Shape.Edges
+                      + self.box.Shape.Faces]
+        normal = V(1, 2, 0).normalize()
+        fd.make_stretch(self.box, (V(0, 0, 0), normal), 5)
+        fd.make_bend(self.box, (V(0, 0, 0), normal), 20, (V(0, 0, 40), V(2, -1, 0)))
+        self.doc.recompute()
+        self.assertEqual(tolerances, [x.Tolerance for x in self.box.Shape.Vertexes
+                                      + self.box.Shape.Edges + self.box.Shape.Faces])
+
+    def test_planes_closer_than_the_tolerance_are_refused(self):
+        t = fd.make_twist(self.box, (V(10, 0, 0), V(1, 0, 0)), (V(10 + 1e-7, 0, 0), V(1, 0, 0)),
+                          -720)
+        self.assert_refused(t, "Plane2")
+
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
             self.doc.UndoMode = undo_mode

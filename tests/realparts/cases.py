@@ -154,7 +154,7 @@ def run_brep(case, doc, floor):
     noise, floor_s = None, None
     if floor:  # the table times OCCT's own split and fuse of the same planes
         t1 = time.perf_counter()
-        noise = orc.split_noise(shape, planes)
+        noise = orc.split_noise(shape, planes, motion)
         floor_s = time.perf_counter() - t1
     if status != "ok":
         return Outcome(status, message, {}, seconds, floor_s)
@@ -175,7 +175,7 @@ def run_brep(case, doc, floor):
     rel = 1e-6 if case.feature != "Twist" else 2e-4   # a twist's loft approximates helicoids
     err = abs(change - expected_change) / scale
     if err > rel and noise is None:   # past the plain tolerance: measure OCCT's precision
-        noise = orc.split_noise(shape, planes)
+        noise = orc.split_noise(shape, planes, motion)
     vtol = rel + (4 * (noise or 0.0) + 1e-9 * shape.Volume) / scale
     errors["volume"] = (err, vtol)
     errors["VolumeChange"] = (abs(obj.VolumeChange - expected_change) / scale, vtol)

@@ -39,34 +39,90 @@ def solids_compound(shape):
 
 def section(shape, origin, normal):
     """(area, centroid, bounded by B-spline edges) of the solids' section in the plane,
-    solid by solid (an assembly's solids may overlap): Shape.slice and a face maker."""
+    solid by solid (an assembly's solids may overlap): Shape.slice and a face maker where
+    the slice gives closed wires of lines and circles; where it gives B-spline edges or open
+    wires (OCCT's slice of a B-spline or revolved B-spline face can be off by 2e-4, or
+    drop a piece), the volume of a thin slab about the plane cut out by a boolean common
+    (V(h) / h, exact to O(h^2))."""
     n = V(*normal).normalize()
     area, moment, spline = 0.0, np.zeros(3), False
     for solid in shape.Solids:
         wires = solid.slice(n, n.dot(V(*origin)))
         if not wires:
             continue
-        for face in Part.makeFace(wires, "Part::FaceMakerBullseye").Faces:
+        faces = Part.makeFace(wires, "Part::FaceMakerBullseye").Faces
+        curved = any(type(e.Curve).__name__ in ("BSplineCurve", "BezierCurve", "OffsetCurve")
+                     for w in wires for e in w.Edges if not e.Degenerated)
+        spline = spline or curved
+        if curved or not all(w.isClosed() for w in wires) or _free_form_across(
+                solid, origin, normal):
+            a, c = slab_section(solid, origin, normal)
+            area, moment = area + a, moment + c * a
+            continue
+        for face in faces:
             area += face.Area
             moment += np.array(tuple(face.CenterOfMass)) * face.Area
-            spline = spline or any(type(e.Curve).__name__ in ("BSplineCurve", "BezierCurve")
-                                   for e in face.Edges if not e.Degenerated)
     return area, (moment / area if area else None), spline
 
 
-def split_noise(shape, planes):
+ELEMENTARY = ("Plane", "Cylinder", "Cone", "Sphere", "Toroid")
+
+
+def _free_form_across(solid, origin, normal):
+    """Does the plane cross a face that is not elementary (B-spline, revolved, extruded)?
+    OCCT's slice of such faces may drop whole wires without leaving an open one."""
+    n = np.asarray(normal, float)
+    for face in solid.Faces:
+        if type(face.Surface).__name__ in ELEMENTARY:
+            continue
+        bb = face.BoundBox
+        corners = np.array([[x, y, z] for x in (bb.XMin, bb.XMax) for y in (bb.YMin, bb.YMax)
+                            for z in (bb.ZMin, bb.ZMax)])
+        s = (corners - origin) @ n
+        if s.min() < 0 < s.max():
+            return True
+    return False
+
+
+def slab_section(solid, origin, normal):
+    """(area, centroid) of the section from the common of `solid` with the slab of
+    thickness h = 1e-4 of its size centred on the plane."""
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    h = 1e-4 * solid.BoundBox.DiagonalLength
+    size = 4 * solid.BoundBox.DiagonalLength + 2 * np.linalg.norm(
+        np.array(tuple(solid.BoundBox.Center)) - origin)
+    box = Part.makeBox(size, size, h, V(-size / 2, -size / 2, -h / 2))
+    box.Placement = App.Placement(V(*origin), App.Rotation(V(0, 0, 1), V(*n)))
+    pieces = solid.common(box).Solids
+    volume = sum(p.Volume for p in pieces)
+    if volume <= 0:
+        return 0.0, np.zeros(3)
+    centre = sum(np.array(tuple(p.CenterOfMass)) * p.Volume for p in pieces) / volume
+    return volume / h, centre
+
+
+def split_noise(shape, planes, motion=None):
     """OCCT's volume precision on this edit: |sum of the volumes of the pieces that
     generalFuse cuts at the planes - the volume of each solid|, summed (the split moves
-    nothing, so all of it is integration error). Also the OCCT floor: the split and a
-    fuse of the pieces again."""
+    nothing, so all of it is integration error), plus, with `motion` (4x4), how much the
+    volume of the pieces beyond the last plane changes when they are only moved by it
+    (OCCT integrates moved B-spline faces differently). Also the OCCT floor: the split
+    and a fuse of the pieces again."""
     size = 2 * shape.BoundBox.DiagonalLength
     tools = [big_square(o, n, size) for o, n in planes]
+    last_origin, last_normal = (np.asarray(v, float) for v in planes[-1])
     noise = 0.0
     for solid in shape.Solids:
         pieces = solid.generalFuse(tools)[0].Solids
         noise += abs(sum(p.Volume for p in pieces) - solid.Volume)
         if len(pieces) > 1:
             pieces[0].fuse(pieces[1:])
+        if motion is None:
+            continue
+        m = App.Matrix(*np.asarray(motion, float).ravel())
+        for p in pieces:
+            if (np.array(tuple(p.CenterOfMass)) - last_origin) @ last_normal > 0:
+                noise += abs(p.transformed(m).Volume - p.Volume)
     return noise
 
 

@@ -65,7 +65,7 @@ def _plane_expect(p, name):
     return [] if all(map(finite, p["o"] + p["n"])) else [name]
 
 
-SAMPLES = (-5, 0, 1, 2, 16, 64, 1000, 1001, 10 ** 6)
+SAMPLES = (-5, 0, 1, 2, 16, 64, 200, 201, 10 ** 6)
 # Case 3 separating polylines (in the xz plane, extruded along y): a fold, a point, NaN
 POLYLINES = ([[-5, 0, -10], [0, 0, 0], [5, 0, 10]], [[0, 0, 0]], [[0, 0, 0], [0, 0, 0]],
              [[0, 0, -10], [NAN, 0, 10]], [])
@@ -337,7 +337,7 @@ ISSUE = [
           name="mesh Twist Samples 10^6"),
     fixed("twist", {"shape": "box", "as": "mesh"}, {"plane": _p((-10, 0, 0)),
                                                     "plane2": _p((10, 0, 0)), "angle": 30},
-          [{"do": "set", "values": {"Samples": 1000}}], name="mesh Twist Samples 1000"),
+          [{"do": "set", "values": {"Samples": 200}}], name="mesh Twist Samples 200"),
     fixed("stretch", BOX, {"plane": _p((0, 0, 0), (1, 2, 0)), "distance": 5},
           name="Stretch plane through Base vertices and edges"),
     fixed("stretch", {"shape": "void"}, {"plane": X0, "distance": 5},
