@@ -296,7 +296,7 @@ ISSUE = [
     fixed("twist", BOX, {"plane": _p((-10, 0, 0)), "plane2": _p((10, 0, 0)), "angle": 720},
           name="Twist 720 deg"),
     fixed("twist", BOX, {"plane": _p((-10, 0, 0)), "plane2": _p((10, 0, 0)), "angle": 10},
-          [{"do": "set", "values": {"Angle": 720}}], name="Twist Angle = 720 set"),
+          [{"do": "set", "values": {"Angle": 0, "Turns": 2}}], name="Twist two Turns set"),
     fixed("direct_push", {"shape": "circle"}, {"element": "Edge1", "point": {"uv": [0.25, 0]},
                                               "offset": [NAN, 0, 0]}, expect=["Targets"],
           name="DirectPush NaN target"),

@@ -616,10 +616,13 @@ def _step(doc, obj, step, case, bases, names, problem):
                 continue
             held = getattr(obj, name)
             held = getattr(held, "Value", held)
-            # FreeCAD's PropertyLength holds no negative value (0 instead): not ours
-            clamped = "Length" in obj.getTypeIdOfProperty(name) and held == 0
+            # FreeCAD's PropertyLength holds no negative value (0 instead), PropertyAngle
+            # nothing beyond +-360 deg (whole turns go to Twist's Turns): not ours
+            kind_of = obj.getTypeIdOfProperty(name)
+            clamped = ("Length" in kind_of and held == 0 and value < 0) or (
+                "Angle" in kind_of and abs(held) == 360.0 and abs(value) > 360.0)
             if isinstance(value, (int, float)) and isinstance(held, (int, float)) and \
-                    math.isfinite(value) and held != value and not (clamped and value < 0):
+                    math.isfinite(value) and held != value and not clamped:
                 problem(("silent_wrong", f"{name} set to {value!r} holds {held!r}"))
         doc.recompute()
     elif kind == "self_link":
