@@ -24,6 +24,7 @@ from .errors import DeformError
 DOFS = ("Normal", "Z", "Free")
 METHODS = ("Lagrange-Newton", "Penalty")
 MAX_ITERATIONS = 60
+FOLDED = 1e-10          # AreaError / area beyond which the result is refused
 MAX_VARIABLES = 2000    # the KKT system is dense: beyond this a solve takes minutes
 
 
@@ -392,6 +393,12 @@ def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagra
         sol = constrain_area(q, surface.poles, movable, target, dof, method, sol)
         iterations += sol.iterations
         q, finer = refined(q, sol.poles)
+        if not finer and q.error > FOLDED * sol.area:
+            raise DeformError(f"The surface that meets TargetArea {target:.8g} degenerates "
+                              "(|S_u x S_v| near 0 along curves, as where it folds): its "
+                              "area is only known to "
+                              f"{q.error / sol.area:.0e} relative; ask for a smaller change "
+                              "or free other Poles.", "TargetArea")
         if not finer:
             return sol._replace(error=q.error, iterations=iterations)
     raise _stalled(Problem(q, surface.poles, movable, dof), target)
