@@ -156,7 +156,7 @@ class TestShapes(AreaCase):
         obj.Face = "Face1"
         obj.Poles = ["9,9"]
         self.doc.recompute()
-        self.assertIn("Pole (9, 9) is outside", obj.getStatusString())
+        self.assertIn("Poles: pole (9, 9) is outside", obj.getStatusString())
 
     def test_undo_and_reopen(self):
         before = len(self.doc.Objects)
