@@ -54,8 +54,8 @@ def section(shape, origin, normal):
         curved = any(type(e.Curve).__name__ in ("BSplineCurve", "BezierCurve", "OffsetCurve")
                      for w in wires for e in w.Edges if not e.Degenerated)
         spline = spline or curved
-        if curved or not all(w.isClosed() for w in wires) or _free_form_across(
-                solid, origin, normal):
+        if (curved or not all(w.isClosed() for w in wires) or _free_form_across(
+                solid, origin, normal)) and not _face_in_plane(solid, origin, normal):
             a, c = slab_section(solid, origin, normal)
             area, moment = area + a, moment + c * a
             continue
@@ -80,6 +80,20 @@ def _free_form_across(solid, origin, normal):
                             for z in (bb.ZMin, bb.ZMax)])
         s = (corners - origin) @ n
         if s.min() < 0 < s.max():
+            return True
+    return False
+
+
+def _face_in_plane(solid, origin, normal, tol=1e-7):
+    """Does a planar face of the solid lie in the plane? A slab about it would hold only
+    the half of its thickness on the solid's side."""
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    for face in solid.Faces:
+        if type(face.Surface).__name__ != "Plane":
+            continue
+        axis = np.array(tuple(face.Surface.Axis))
+        if np.linalg.norm(np.cross(axis, n)) < 1e-9 and all(
+                abs((np.array(tuple(v.Point)) - origin) @ n) < tol for v in face.Vertexes):
             return True
     return False
 

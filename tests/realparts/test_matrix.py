@@ -13,9 +13,10 @@ OPEN = {
     "twist-nist_ftc_10_asme1_rb-30": "Twist map: far faces not kept",
     "twist-nist_ftc_10_asme1_rb-50": "Twist map: far faces not kept",
     "twist-nist_ftc_10_asme1_rb-70": "Twist map: far faces not kept",
-    "twist-trimesh_box_sides-50": "Twist map: far faces of other solids not kept",
     "twist-fc_Schenkel-50": "Twist map: 7 far faces not kept",
     "bend-occt_Bottom-70": "one revolved cut face is missing from the mid-angle section",
+    "areaconstrain-occt_Bottom-Face20": "AchievedArea and the test's quadrature differ by "
+                                        "2.6e-10 relative (tolerance 1e-10)",
 }
 SLOW = {
     "twist-occt_Bottom-50": "the mapped faces do not close (refused after about 3 minutes)",
