@@ -640,6 +640,7 @@ def _step(doc, obj, step, case, bases, names, problem):
             if "Base" not in str(e):
                 problem(("bad_refusal", f"make_stretch on {obj.Name}: {e}"))
             return doc, obj
+        names.append(obj.Name)  # undo now takes back the other feature, not this one
         doc.recompute()
         before = (measure(obj), measure(other))
         obj.Base = other
