@@ -3,7 +3,6 @@ make_area_constrain(), make_direct_push(). Each creates one feature in one
 transaction and recomputes; the keyword arguments are the object's properties."""
 import FreeCAD as App
 import numpy as np
-import numpy as np
 
 from .features.base import RESULT_TYPES, base_kind
 from .features.area_constrain import AreaConstrain

@@ -162,9 +162,22 @@ def sheets(pieces):
         return list(pieces)
     sewn = Part.makeCompound(faces)
     sewn.sewShape()
+    shells, free = shells_of(sewn)
+    return shells + free + [p for p in pieces if p.ShapeType not in ("Face", "Shell")]
+
+
+def shells_of(sewn):
+    """(shells, faces in none) of a sewn compound."""
     in_shells = {f.hashCode() for sh in sewn.Shells for f in sh.Faces}
-    return (list(sewn.Shells) + [f for f in sewn.Faces if f.hashCode() not in in_shells]
-            + [p for p in pieces if p.ShapeType not in ("Face", "Shell")])
+    return list(sewn.Shells), [f for f in sewn.Faces if f.hashCode() not in in_shells]
+
+
+def closed_shells(sewn):
+    """The closed shells of a sewn compound, or None unless every face is in one. A face
+    closed on itself (a spherical void) comes back from sewing without a shell: it is one."""
+    shells, free = shells_of(sewn)
+    shells += [Part.Shell([f]) for f in free]
+    return shells if shells and all(sh.isClosed() for sh in shells) else None
 
 
 def swept_points(points, vec):
@@ -351,13 +364,8 @@ def _sewn(faces):
         sewn.sewShape()
     except Part.OCCError:  # OCCT's sewing fails on some degenerate B-spline faces
         return None
-    shells = sewn.Shells
-    in_shells = {f.hashCode() for sh in shells for f in sh.Faces}
-    # a face closed on itself (a spherical void) comes back without a shell
-    shells += [Part.Shell([f]) for f in sewn.Faces if f.hashCode() not in in_shells]
-    if not shells or not all(sh.isClosed() for sh in shells):
-        return None
-    return solid_of_shells(shells)
+    shells = closed_shells(sewn)
+    return None if shells is None else solid_of_shells(shells)
 
 
 def join_faces(faces, joints, prop):

@@ -133,7 +133,7 @@ def sewn_solid(faces, joints, deviation, prop):
         fused = loose[0].generalFuse(loose[1:], fuzzy)[0]
         keep = [f for f in sewn.Faces if not any(f.isSame(g) for g in loose)]
         sewn = _sewn(keep + fused.Faces, tol)
-    shells = _closed_shells(sewn)
+    shells = brep.closed_shells(sewn)
     if shells is None:
         raise DeformError(f"The mapped faces do not close a solid (gaps above "
                           f"{tol:.3g} mm); lower {prop}.", prop)
@@ -167,15 +167,6 @@ def _with_free_edges(faces):
             count[edge.hashCode()] = count.get(edge.hashCode(), 0) + 1
     return [f for f in faces if any(count[e.hashCode()] == 1 and not e.isSeam(f)
                                     and not e.Degenerated for e in f.Edges)]
-
-
-def _closed_shells(sewn):
-    """The closed shells of a sewn compound, or None unless every face is in one."""
-    shells = sewn.Shells
-    if not shells or not all(sh.isClosed() for sh in shells) or \
-            sum(len(sh.Faces) for sh in shells) != len(sewn.Faces):
-        return None
-    return shells
 
 
 # --- faces -------------------------------------------------------------------------------
