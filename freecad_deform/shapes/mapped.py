@@ -105,7 +105,9 @@ def _moved_faces(faces, matrix, tol):
     its circles to about 1e-3)."""
     m = np.asarray(matrix, float)
     if np.allclose(m[:3, :3].T @ m[:3, :3], np.eye(3), atol=1e-12):
-        return brep.transformed(faces, m), 0.0
+        # moved as one compound: faces moved one by one lose their shared edges, and
+        # sewing them again refits a real file's loose edges (areas off by 1e-6)
+        return brep.transformed([Part.makeCompound(faces)], m)[0].Faces, 0.0
     out = [_fitted(f, lambda p: p @ m[:3, :3].T + m[:3, 3], tol) for f in faces]
     return [f for f, _ in out], max([d for _, d in out], default=0.0)
 
