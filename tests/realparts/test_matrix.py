@@ -8,12 +8,7 @@ from . import cases
 # Cases that do not pass yet (issue 10 stays open for them); strict: one that starts to pass
 # fails here until it is taken off this list. Those that take minutes are not run.
 OPEN = {
-    "twist-nist_ctc_01_asme1_rd-30": "Twist map: 4 far faces not the Base's turned exactly",
-    "twist-nist_ctc_01_asme1_rd-50": "Twist map: 4 far faces not the Base's turned exactly",
-    "twist-nist_ftc_10_asme1_rb-30": "Twist map: far faces not kept",
-    "twist-nist_ftc_10_asme1_rb-50": "Twist map: far faces not kept",
     "twist-nist_ftc_10_asme1_rb-70": "Twist map: far faces not kept",
-    "twist-fc_Schenkel-50": "Twist map: 7 far faces not kept",
     "bend-occt_Bottom-70": "one revolved cut face is missing from the mid-angle section",
     "areaconstrain-occt_Bottom-Face20": "AchievedArea and the test's quadrature differ by "
                                         "2.6e-10 relative (tolerance 1e-10)",
