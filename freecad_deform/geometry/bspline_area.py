@@ -432,10 +432,13 @@ def _build(surface, rects, values, errors, per_area, movable, fixed=None):
 
 def refined(q, poles, rtol=RTOL):
     """(Quadrature for the surface with `poles`, whether it needed more nodes than q): q's
-    rectangles checked with the new poles (only movable ones changed) and split further
-    where the rules disagree; the error estimate is the new one."""
+    rectangles checked with the new poles (only movable ones changed), given more nodes or
+    split further where the rules disagree; the error estimate is the new one. Each
+    rectangle is checked afresh (its kept value belongs to the old poles), from its rule."""
     s = q.surface._replace(poles=np.asarray(poles, float).reshape(q.surface.poles.shape))
-    rects, values, errors = adapt(q.rects, s, s.poles, _tolerance(q.per_area, rtol))
+    n = len(q.rects.u0)
+    start = q.rects._replace(value=np.full(n, np.nan), last=np.full(n, np.inf))
+    rects, values, errors = adapt(start, s, s.poles, _tolerance(q.per_area, rtol))
     new = _build(s, rects, values, errors, q.per_area, None, q.fixed_parts)
     new.active = q.active
-    return new, len(rects.u0) != len(q.rects.u0)
+    return new, new.count != q.count

@@ -10,8 +10,6 @@ from . import cases
 OPEN = {
     "twist-nist_ftc_10_asme1_rb-70": "Twist map: far faces not kept",
     "bend-occt_Bottom-70": "one revolved cut face is missing from the mid-angle section",
-    "areaconstrain-occt_Bottom-Face20": "AchievedArea and the test's quadrature differ by "
-                                        "2.6e-10 relative (tolerance 1e-10)",
 }
 SLOW = {
     "twist-occt_Bottom-50": "the mapped faces do not close (refused after about 3 minutes)",
