@@ -10,7 +10,7 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from .errors import DeformError
-from .mesh_stretch import _arrays, _check_crossing, _cut, _merge_close, _seam
+from .mesh_stretch import _arrays, _check_crossing, _cut, _seam
 from .motion import apply, apply_each, fraction_matrices, rotation, translation
 from .planes import unit_normal
 
@@ -119,7 +119,8 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     on = plane_of >= 0
     f[on] = plane_of[on] / samples
     move = f > 0
-    V[move] = apply_each(fraction_matrices(motion_of_s, f[move]), V[move])
+    fractions, which = np.unique(f[move], return_inverse=True)   # a plane's points share one
+    V[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)], V[move])
     return V, T
 
 
@@ -129,7 +130,7 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     Returns (vertices, triangles, plane_of): plane_of[v] is the plane vertex v lies on, -1
     for none. Vertices within eps of a plane are snapped onto it; every edge gets one new
     vertex per plane it crosses (shared by its two triangles, so closed stays closed), and
-    the cut points of one plane closer than eps are merged (`_merge_close`). A triangle
+    the cut points joined by a section segment shorter than eps are merged. A triangle
     crossing k planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane):
     sorted by level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c
     on the other are zipped from a to c, each quadrilateral between two planes split along
@@ -167,7 +168,8 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     hi = np.concatenate([b, c, c])
     _, first, inv = np.unique(np.minimum(lo, hi) * N + np.maximum(lo, hi),
                               return_index=True, return_inverse=True)
-    inv = inv.reshape(-1)
+    m = len(a)
+    e_ab, e_bc, e_ac = np.split(inv.reshape(-1), 3)
     e_first = np.concatenate([f_ab, f_bc, f_ac])[first]
     e_count = np.concatenate([n_ab, n_bc, n_ac])[first]
     e_start = np.cumsum(e_count) - e_count
@@ -178,16 +180,23 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     dp, dq = s[p[edge]] - level, s[q[edge]] - level
     P = V[p[edge]] + (dp / (dp - dq))[:, None] * (V[q[edge]] - V[p[edge]])
     P -= ((P - o) @ n - level)[:, None] * n
-    P, label = _merge_close(P, np.arange(len(P)), eps)
+
+    def raw(e, jj):                       # index in P of edge e's point on plane jj
+        return e_start[e] + jj - e_first[e]
+
+    # the section segments: on each plane a triangle crosses, its long chain's point to its
+    # short chain's (b itself when b lies on that plane)
+    t, i = _ranges(n_ac)
+    jj = f_ac[t] + i
+    short = np.where(jj < ub[t], raw(e_ab[t], jj), raw(e_bc[t], jj))
+    seg = np.stack([raw(e_ac[t], jj), short], 1)[jj != ub[t]]
+    P, label = _merge_segments(P, seg, eps)
     W = np.concatenate([V, P])
     plane_of = np.concatenate([plane_of, np.empty(len(P), np.int64)])
     plane_of[N + label] = jp
 
-    m = len(a)
-    e_ab, e_bc, e_ac = inv[:m], inv[m:2 * m], inv[2 * m:]
-
     def point(e, jj):
-        return N + label[e_start[e] + jj - e_first[e]]
+        return N + label[raw(e, jj)]
 
     # the events of each triangle (the vertices of its two chains after a) in level order,
     # ties put the long chain (a -> c) first
@@ -248,6 +257,30 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     T = np.concatenate([keep, new])
     flat = (T[:, 0] == T[:, 1]) | (T[:, 1] == T[:, 2]) | (T[:, 2] == T[:, 0])
     return W, T[~flat], plane_of
+
+
+def _merge_segments(P, segments, eps):
+    """Cut points joined by a section segment shorter than eps become one (the first of
+    each chain): returns (points kept, the kept index of every point). A sliver triangle
+    crossing a plane near its sharp tip puts its two cut points almost together; stored
+    apart they would make a needle facet (and in float32 one point). Merged, the two facets
+    on that tiny edge vanish (an edge collapse on the plane) and the mesh stays a closed
+    2-manifold."""
+    short = segments[np.linalg.norm(P[segments[:, 0]] - P[segments[:, 1]], axis=1) <= eps]
+    if not len(short):
+        return P, np.arange(len(P))
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    nodes, pair = np.unique(short, return_inverse=True)
+    pair = pair.reshape(-1, 2)
+    graph = coo_matrix((np.ones(len(pair)), (pair[:, 0], pair[:, 1])), (len(nodes),) * 2)
+    _, chain = connected_components(graph, directed=False)
+    first = np.full(chain.max() + 1, len(P))
+    np.minimum.at(first, chain, nodes)
+    target = np.arange(len(P))
+    target[nodes] = first[chain]
+    keep = target == np.arange(len(P))
+    return P[keep], (np.cumsum(keep) - 1)[target]
 
 
 def _planes_between(lo, hi, samples):
