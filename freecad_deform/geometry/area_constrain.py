@@ -182,11 +182,17 @@ class Problem:
         a, g = self.q.gradient(self.poles(t), self.movable)
         return a, self.D.T @ g.ravel()
 
+    exact = False       # True: the Hessian from the area's own nodes, not the light rule
+
     def hessian(self, t):
-        return self.D.T @ self.q.hessian(self.poles(t), self.movable) @ self.D
+        H = self.q.hessian(self.poles(t), self.movable, self.exact)
+        return self.D.T @ H @ self.D
 
 
-def _converged(t, lam, g, c, target):
+def _converged(t, g, c, target):
+    """On the constraint and t parallel to g: |t + lambda g| <= 1e-9 |t| with lambda the
+    least-squares multiplier of t (the iterate's lambda lags when steps are short)."""
+    lam = -(t @ g) / (g @ g)
     stationary = np.linalg.norm(t + lam * g) <= 1e-9 * max(np.linalg.norm(t), 1e-300)
     return abs(c) <= 1e-14 * target and stationary
 
@@ -197,14 +203,20 @@ def lagrange_newton(problem, target, start=None):
     when it stalls."""
     n = problem.D.shape[1]
     t, lam = (np.zeros(n), 0.0) if start is None else start
-    mu = 0.0
+    mu, residual = 0.0, np.inf
     for it in range(1, MAX_ITERATIONS + 1):
         a, g = problem.gradient(t)
         c = a - target
-        if it > 1 and _converged(t, lam, g, c, target):
+        if it > 1 and _converged(t, g, c, target):
             return t, lam, it - 1
         if not np.any(g):
             raise _stalled(problem, target)
+        # Newton with the light Hessian converges linearly where that rule is poor (a
+        # tiny knot span): then the Hessian from the area's own nodes
+        new_residual = np.linalg.norm(t + lam * g) + abs(c) * np.linalg.norm(g)
+        if it > 3 and alpha == 1.0 and new_residual > 0.1 * residual:
+            problem.exact = True
+        residual = new_residual
         W = np.eye(n) + lam * problem.hessian(t)
         dt, lam_new = _kkt_step(W, g, t, c)
         mu = max(mu, 2 * abs(lam_new), 1e-12)
@@ -214,14 +226,15 @@ def lagrange_newton(problem, target, start=None):
 
         slope = t @ dt - mu * abs(c)
         f0, alpha = merit(t), 1.0
+        noise = 1e-14 * (f0 + mu * target)     # the merit's rounding error
         while alpha > 1e-10:
             trial = t + alpha * dt
-            if merit(trial) <= f0 + 1e-4 * alpha * min(slope, 0.0):
+            if merit(trial) <= f0 + 1e-4 * alpha * min(slope, 0.0) + noise:
                 break
             if alpha == 1.0:  # second-order correction: back onto the constraint
                 at, gt = problem.gradient(trial)
                 soc = trial - (at - target) * gt / (gt @ gt)
-                if merit(soc) <= f0 + 1e-4 * min(slope, 0.0):
+                if merit(soc) <= f0 + 1e-4 * min(slope, 0.0) + noise:
                     trial = soc
                     break
             alpha *= 0.5

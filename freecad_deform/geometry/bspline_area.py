@@ -323,11 +323,11 @@ class Quadrature:
         g = q.Su.T @ a + q.Sv.T @ b
         return self.fixed + float(q.weights @ f), np.asarray(g)[np.asarray(movable, int)]
 
-    def hessian(self, poles, movable):
+    def hessian(self, poles, movable, exact=False):
         """d2 area / d pole coordinates (3k, 3k), index 3 * m + c (eq. 4-6):
         (1/f) dn_a . (I - n n^T) dn_b + n . d2n_ab, with dn = (Rv_m [S_u]x - Ru_m [S_v]x) e_c,
-        summed cell by cell as dense (L, 3, L, 3) blocks."""
-        q = self.light
+        summed cell by cell as dense (L, 3, L, 3) blocks; on the light rule unless `exact`."""
+        q = self.nodes if exact else self.light
         Su, Sv, f, n, inv = q.normal(poles)
         s, w = q.weights * inv, q.weights
 
