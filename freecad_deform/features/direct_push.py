@@ -136,11 +136,15 @@ def _element(shape, face):
     if corners is not None:
         s, note = dp.bezier_patch(corners), "planar four-sided face: exact bicubic Bezier patch (Pratt)"
     elif bspline.natural(face):
-        surface, note = bspline.bspline_of(face, "Element", checked=True)
+        surface, note = bspline.smoothed(face) or \
+            bspline.bspline_of(face, "Element", checked=True)
     elif _planar_few_edges(face):
         s, note = bspline.coons_of(face, "Element")
     else:
-        surface, trim, note = bspline.trimmed_surface(face, "Element")
+        smooth = bspline.smoothed(face)
+        surface, trim, note = (*smooth[:1], face, smooth[1] + ", trimmed: rebuilt on its "
+                               "boundary's pcurves") if smooth else \
+            bspline.trimmed_surface(face, "Element")
         if key[2]:
             boundary = bspline.boundary_uv(trim, surface, "Element")
     if surface is not None:
@@ -498,6 +502,7 @@ class DirectPush(DeformFeature):
             raise DeformError(f"{obj.Element} could not be joined to its neighbours again "
                               "after the push; move the Targets nearer to their Points.",
                               "Targets")
+        bspline.settle_tolerances(result.Faces[index])   # result is built on copies
         return result if owner.isSame(shape) else shape.replaceShape([(owner, result)])
 
     def _blended(self, obj, state, owner, index):

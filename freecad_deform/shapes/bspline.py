@@ -125,15 +125,25 @@ def _surface_of(face):
     surface = face.Surface.copy() if kind == "BSplineSurface" else \
         face.toNurbs().Faces[0].Surface
     u0, u1, v0, v1 = face.ParameterRange
-    b = surface.bounds()
-    if max(abs(u0 - b[0]), abs(u1 - b[1]), abs(v0 - b[2]), abs(v1 - b[3])) > 1e-9:
-        surface.segment(u0, u1, v0, v1)
-        note += ", cut to the face's parameter range"
     for periodic, fix in ((surface.isUPeriodic, surface.setUNotPeriodic),
                           (surface.isVPeriodic, surface.setVNotPeriodic)):
         if periodic():
             fix()
+    b = surface.bounds()
+    if max(abs(u0 - b[0]), abs(u1 - b[1]), abs(v0 - b[2]), abs(v1 - b[3])) > 1e-9:
+        surface.segment(u0, u1, v0, v1)
+        note += ", cut to the face's parameter range"
+    elif not _clamped(surface):
+        # a periodic surface made non-periodic keeps its periodic knots: rows of poles
+        # beyond the range, the seam on inner ones (a push there would open it)
+        surface.segment(u0, u1, v0, v1)
     return surface, note
+
+
+def _clamped(surface):
+    """Whether both knot vectors have full multiplicity at their ends."""
+    um, vm = surface.getUMultiplicities(), surface.getVMultiplicities()
+    return min(um[0], um[-1]) > surface.UDegree and min(vm[0], vm[-1]) > surface.VDegree
 
 
 def trimmed(face):
@@ -163,6 +173,35 @@ def natural(face):
             if min(abs(p.x - u0), abs(p.x - u1), abs(p.y - v0), abs(p.y - v1)) > tol:
                 return False
     return True
+
+
+def smoothed(face):
+    """(C2 B-spline, note) approximating the face's own surface over its parameter range,
+    in that surface's (u, v), so the face's pcurves still hold; None when its exact NURBS
+    form has no C0 knot (only rational circles have: there a push would crease it, and
+    OCCT's BOP check calls the result self-intersecting) or the fit is not within 1e-9 of
+    the face's size."""
+    kind = face.Surface.TypeId.split("::Geom")[-1]
+    if kind in ("BSplineSurface", "BezierSurface"):
+        return None
+    exact = face.toNurbs().Faces[0].Surface
+    if not any(m >= degree for mults, degree in ((exact.getUMultiplicities(), exact.UDegree),
+                                                  (exact.getVMultiplicities(), exact.VDegree))
+               for m in mults[1:-1]):
+        return None
+    u0, u1, v0, v1 = face.ParameterRange
+    tol = 1e-9 * face.BoundBox.DiagonalLength
+    try:
+        fit = Part.RectangularTrimmedSurface(face.Surface, u0, u1, v0, v1).toBSpline(
+            tol, "C2", "C2", 6, 6, 400)
+    except Part.OCCError:
+        return None
+    U, V = np.linspace(u0, u1, 41), np.linspace(v0, v1, 41)
+    err = max((fit.value(u, v) - face.Surface.value(u, v)).Length for u in U for v in V)
+    if err > 10 * tol:
+        return None
+    return fit, (f"{kind} approximated by a C2 B-spline to {err:.1g} mm (its exact form "
+                 "is C0 at knots, where a push would crease it)")
 
 
 def bspline_of(face, prop="Face", checked=False):
@@ -237,7 +276,8 @@ def replaced_all(shape, faces_by_index):
         kind = "Shell"
     else:
         return None
-    faces = [faces_by_index.get(i, f) for i, f in enumerate(shape.Faces)]
+    # a copy: sewing may take over (and retune) the Base's own edges
+    faces = [faces_by_index.get(i, f) for i, f in enumerate(shape.copy().Faces)]
     try:
         shell = Part.Shell(faces)
         shell.sewShape()
@@ -472,8 +512,47 @@ def with_surface(shape, index, surface):
     # only the new face and the faces that share its edges changed: check those (a Base
     # that OCCT finds invalid elsewhere can still be pushed)
     new = result.Faces[index]
+    size = new.BoundBox.DiagonalLength
+    if any(gap > max(2.0 * e.Tolerance, 1e-5 * size) for e, gap in pcurve_gaps(new)):
+        return None
     changed = {f.hashCode(): f for e in new.Edges for f in result.ancestorsOfType(e, Part.Face)}
     return result if new.isValid() and all(f.isValid() for f in changed.values()) else None
+
+
+def pcurve_gaps(face, per_span=17):
+    """[(edge, largest distance between its 3D curve and its pcurve on `face`, at the same
+    parameter)] for the face's edges, sampled per knot span of the pcurve (the peaks sit
+    near its knots); inf where an edge has no pcurve. OCCT's projected pcurves on a
+    rational surface (a converted circle) can follow another parametrisation: isValid()
+    passes, the BOP check and booleans fail."""
+    surface, out = face.Surface, []
+    for edge in face.Edges:
+        if edge.Degenerated:
+            continue
+        found = face.curveOnSurface(edge)
+        if found is None:
+            out.append((edge, np.inf))
+            continue
+        c2d, a, b = found
+        knots = np.array(c2d.getKnots() if hasattr(c2d, "getKnots") else [], float)
+        cuts = np.unique(np.concatenate([[a, b], knots[(knots > a) & (knots < b)]]))
+        ts = np.unique(np.concatenate([np.linspace(t0, t1, per_span)
+                                       for t0, t1 in zip(cuts, cuts[1:])]))
+        out.append((edge, max((surface.value(uv.x, uv.y) - edge.valueAt(t)).Length
+                              for t in ts for uv in [c2d.value(t)])))
+    return out
+
+
+def settle_tolerances(face):
+    """Raise the tolerance of the face's edges (and their vertices) to cover the gap
+    between their 3D curves and pcurves, so the shape is what it says (the BOP check
+    and booleans trust the tolerances). The largest gap, for the caller to judge."""
+    worst = 0.0
+    for edge, gap in pcurve_gaps(face):
+        worst = max(worst, gap)
+        if np.isfinite(gap) and gap > edge.Tolerance:
+            edge.limitTolerance(2.0 * gap)   # the samples may miss the peak
+    return worst
 
 
 def moved(surface, before, after):
