@@ -1568,9 +1568,10 @@ def direct_push():
         "drag_s": sum(times), "renders": renders, "rendered_fps": drawn,
         "recompute_on_release_s": panel.recompute_time}
     # The preview update (mouse position -> kernel push -> Coin nodes) is the panel's work
-    # per move; the renders are the OpenGL driver's (here Xvfb's software renderer, slow
-    # and noisy): reported beside it, not asserted.
-    check("drag preview >= 30 fps", 1.0 / update >= 30 and len(panel.frame_times) >= 30,
+    # per move; the renders are the OpenGL driver's. Both are measured and reported, never
+    # asserted (speed belongs to benchmarks/); the check is that every move updated it.
+    check("DirectPush: the preview updates on every move", len(panel.frame_times) >= len(times),
+          f"{len(panel.frame_times)} updates for {len(times)} moves; "
           f"preview update {1000 * update:.2f} ms = {1 / update:.0f} fps; the view drew "
           f"{renders} frames in {sum(times):.2f} s of {len(times)} moves = {drawn:.0f} fps; "
           f"recompute on release {1000 * (panel.recompute_time or 0):.0f} ms")
