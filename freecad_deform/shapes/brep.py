@@ -436,8 +436,42 @@ def transformed(shapes, matrix):
 
 def revolved(faces, axis_point, axis_direction, angle):
     """The solids swept by the faces turning by `angle` (radians) about the axis: exact."""
-    return [f.revolve(vector(axis_point), vector(axis_direction), float(np.degrees(angle)))
-            for f in faces]
+    return [in_period(f).revolve(vector(axis_point), vector(axis_direction),
+                                 float(np.degrees(angle))) for f in faces]
+
+
+def in_period(shape):
+    """A planar face or an edge with its circle and ellipse edges trimmed within their first
+    period. A split can leave an arc at parameters shifted by 2 pi (7.99 to 10.86 on a real
+    file); the surface of revolution OCCT sweeps from it keeps the shifted range, and OCCT's
+    own slice and booleans then miss that face (a bent part's section lost a region)."""
+    def edge(e):
+        if e.Degenerated or e.Curve.TypeId not in ("Part::GeomCircle", "Part::GeomEllipse"):
+            return e
+        k = np.floor(e.FirstParameter / (2 * np.pi) + 1e-12)
+        if k == 0:
+            return e
+        new = e.Curve.toShape(e.FirstParameter - 2 * np.pi * k, e.LastParameter - 2 * np.pi * k)
+        new.fixTolerance(e.Tolerance)
+        if e.Orientation == "Reversed":
+            new.reverse()
+        return new
+
+    if shape.ShapeType == "Edge":
+        return edge(shape)
+    if shape.ShapeType != "Face" or shape.Surface.TypeId != "Part::GeomPlane" or all(
+            edge(e) is e for e in shape.Edges):
+        return shape
+    wires = [Part.Wire([edge(e) for e in w.OrderedEdges]) for w in shape.Wires]
+    face = Part.makeFace(wires, "Part::FaceMakerBullseye")
+    if len(face.Faces) != 1 or not face.isValid() or \
+            abs(face.Area - shape.Area) > 1e-9 * max(shape.Area, 1.0):
+        return shape
+    face = face.Faces[0]
+    normal = np.array(tuple(shape.normalAt(*shape.Surface.parameter(shape.CenterOfMass))))
+    if normal @ np.array(tuple(face.normalAt(*face.Surface.parameter(face.CenterOfMass)))) < 0:
+        face.reverse()
+    return face
 
 
 def arc(point, axis_point, axis_direction, angle):
