@@ -9,7 +9,6 @@ from . import cases
 # fails here until it is taken off this list. Those that take minutes are not run.
 OPEN = {
     "twist-nist_ftc_10_asme1_rb-70": "Twist map: far faces not kept",
-    "bend-occt_Bottom-70": "one revolved cut face is missing from the mid-angle section",
 }
 SLOW = {
     "twist-occt_Bottom-50": "the mapped faces do not close (refused after about 3 minutes)",
