@@ -65,7 +65,7 @@ def planes(obj, require_plane2=False):
     return origin, normal, gap
 
 
-MAX_SAMPLES = 200  # profiles of a sweep; a mesh band cut at every one grows with their square
+MAX_SAMPLES = 4096  # profiles of a sweep; a mesh band's size and time grow linearly with it
 
 
 def check_samples(obj, least):
