@@ -133,17 +133,7 @@ def _surface_of(face):
     if max(abs(u0 - b[0]), abs(u1 - b[1]), abs(v0 - b[2]), abs(v1 - b[3])) > 1e-9:
         surface.segment(u0, u1, v0, v1)
         note += ", cut to the face's parameter range"
-    elif not _clamped(surface):
-        # a periodic surface made non-periodic keeps its periodic knots: rows of poles
-        # beyond the range, the seam on inner ones (a push there would open it)
-        surface.segment(u0, u1, v0, v1)
     return surface, note
-
-
-def _clamped(surface):
-    """Whether both knot vectors have full multiplicity at their ends."""
-    um, vm = surface.getUMultiplicities(), surface.getVMultiplicities()
-    return min(um[0], um[-1]) > surface.UDegree and min(vm[0], vm[-1]) > surface.VDegree
 
 
 def trimmed(face):
