@@ -109,6 +109,16 @@ class Rects(NamedTuple):
                  for c, d in ((self.v0, vm), (vm, self.v1))]
         return Rects(*(np.concatenate(a) for a in zip(*parts)))
 
+    def halves(self, along_u):
+        """Each rectangle as its two halves, cut across u (along_u) or across v."""
+        if along_u:
+            m = (self.u0 + self.u1) / 2
+            pieces = ((self.u0, m, self.v0, self.v1), (m, self.u1, self.v0, self.v1))
+        else:
+            m = (self.v0 + self.v1) / 2
+            pieces = ((self.u0, self.u1, self.v0, m), (self.u0, self.u1, m, self.v1))
+        return Rects.join([Rects.new(*p, self.su, self.sv, self.depth + 1) for p in pieces])
+
     @staticmethod
     def join(parts):
         return Rects(*(np.concatenate(a) for a in zip(*parts)))
@@ -219,8 +229,27 @@ def adapt(rects, surface, poles, tolerance):
         more = ~ok & (rects.order + 2 < len(RULES)) & (err <= 0.01 * rects.last)
         finer = rects.take(more)
         finer = finer._replace(order=finer.order + 1, value=fine[more], last=err[more])
-        rects = Rects.join([finer, rects.take(~ok & ~more).split()])
+        rects = Rects.join([finer, _split(rects.take(~ok & ~more), coarse[~ok & ~more],
+                                          surface, poles)])
     return Rects.join(done), np.concatenate(values), np.concatenate(errors)
+
+
+def _split(rects, coarse, surface, poles):
+    """The rectangles cut where their integrand is not resolved: in halves across the one
+    direction whose halving changes the area (a degenerate or steep edge along the other:
+    quarters there would grow as 2^depth along the edge), else in quarters. Halves keep
+    their value by the rule they were measured with."""
+    n = RULES[rects.order]
+    k = len(rects.u0)
+    cut = [rects.halves(along_u) for along_u in (True, False)]
+    value = [rect_areas(c, surface, poles, np.tile(n, 2)) for c in cut]
+    change = [np.abs(v[:k] + v[k:] - coarse) for v in value]
+    only = [change[0] > 100 * change[1], change[1] > 100 * change[0]]
+    parts = [rects.take(~only[0] & ~only[1]).split()]
+    for c, v, pick in zip(cut, value, only):
+        both = np.tile(pick, 2)
+        parts.append(c.take(both)._replace(value=v[both], order=np.tile(rects.order, 2)[both]))
+    return Rects.join(parts)
 
 
 class Nodes(NamedTuple):
