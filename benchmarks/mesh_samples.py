@@ -24,6 +24,9 @@ across the middle half of the longest side, 90 deg about the centre line, Sample
              over --budget seconds); a row whose time, extrapolated quadratically from the
              row above, would exceed 4 x --budget is skipped and shows that estimate
 
+A second table does the same for a point-cloud Twist (10^5 points sampled on the housing's
+surface), whose points are each mapped alone: Samples does not enter its cost.
+
 Progress goes to stderr.
 """
 import importlib
@@ -37,16 +40,18 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 # bench_stretch puts FreeCAD's modules and the repository on sys.path and imports FreeCAD first
 from bench_stretch import (REPO, machine_line, options, print_table, progress,  # noqa: E402
-                           run_as_script, runs_line, seconds, testdata)
+                           run_as_script, runs_line, seconds, surface_samples, testdata)
 
 import FreeCAD as App  # noqa: E402
 import Mesh  # noqa: E402
 import numpy as np  # noqa: E402
 import Part  # noqa: E402
+import Points  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.split_sweep import MAX_SAMPLES  # noqa: E402
 from freecad_deform.geometry.mesh_sweep import map_between, twist_motion  # noqa: E402
+from freecad_deform.geometry.points_sweep import map_points_between  # noqa: E402
 from freecad_deform.shapes.convert import mesh_arrays, mesh_eps  # noqa: E402
 
 V = App.Vector
@@ -152,7 +157,38 @@ def main(argv=None):
     header = ("mesh", "Samples", "in", "out", "runs", "kernel", "recompute", "floor map",
               "floor sect", f"before {extra.before}" if extra.before else "before")
     print_table(f"mesh Twist {ANGLE:g} deg over the middle half, seconds (median)", header, rows)
+    print_table(f"point-cloud Twist {ANGLE:g} deg, the same planes: each point is mapped alone, "
+                f"Samples is not used (seconds, median)",
+                ("cloud", "Samples", "points", "runs", "kernel", "recompute", "floor map"),
+                cloud_rows(doc, timer, start, args.quick))
     App.closeDocument(doc.Name)
+
+
+def cloud_rows(doc, timer, start, quick):
+    """A Points Twist of 10^5 points sampled on the housing's surface, at each Samples."""
+    V0, T0 = mesh_arrays(Mesh.Mesh(testdata("occt_sh2.stl")))
+    cloud = surface_samples(V0, T0, 10 ** 5)
+    origin, n, gap, centre = twist_setup(cloud)
+    f = twist_motion(origin, n, gap, np.radians(ANGLE), centre, n)
+    base = doc.addObject("Points::Feature", "Cloud")
+    base.Points = Points.Points([tuple(p) for p in cloud])
+    obj = fd.make_twist(base, (V(*origin), V(*n)), (V(*(origin + gap * n)), V(*n)), ANGLE,
+                        (V(*centre), V(*n)))
+    rows = []
+    for samples in SAMPLES[:3] if quick else SAMPLES:
+        progress(start, f"cloud, Samples {samples}")
+        kernel, runs = timer.median(lambda: map_points_between(cloud, origin, n, gap, f))
+        obj.Samples = samples
+
+        def recompute():
+            obj.touch()
+            doc.recompute()
+        whole = timer.median(recompute, runs)[0]
+        assert obj.State == ["Up-to-date"], obj.getStatusString()
+        floor = timer.median(lambda: numpy_twist(cloud, origin, n, gap, centre), runs)[0]
+        rows.append(("housing surface", samples, len(cloud), runs, seconds(kernel),
+                     seconds(whole), seconds(floor)))
+    return rows
 
 
 run_as_script(main, __name__, __file__)
