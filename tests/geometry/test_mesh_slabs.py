@@ -151,3 +151,14 @@ def test_needle_tip_cut_points_merge_and_stay_closed():
     on = np.abs((V - origin) @ n) < 1e-12
     assert on.sum() == 3
     assert cKDTree(V[on]).query(V[on], 2)[0][:, 1].min() > eps
+
+
+def test_non_finite_vertex_is_refused_naming_base():
+    """A NaN vertex would make the plane counts meaningless (and the arrays unbounded)."""
+    from freecad_deform.geometry import DeformError
+    V0, T0 = BLOB
+    V0 = V0.copy()
+    V0[5, 1] = np.nan
+    with pytest.raises(DeformError) as err:
+        twisted(V0, T0, np.array([0, 0, -0.5]), np.array([0, 0, 1.0]), 1.0, 1.0, 8)
+    assert err.value.prop == "Base" and "Base" in str(err.value)
