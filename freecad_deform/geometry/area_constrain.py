@@ -244,6 +244,18 @@ def lagrange_newton(problem, target, start=None):
     raise _stalled(problem, target)
 
 
+def continued(problem, target, start=None, steps=4):
+    """lagrange_newton toward `target` in `steps` equal steps of the area, each from the
+    last: where one Newton run from `start` leaves the branch of least change (its first
+    linear step overshoots into a region where W is indefinite, and it crawls there)."""
+    a = problem.area(start[0] if start is not None else np.zeros(problem.D.shape[1]))
+    total = 0
+    for k in range(1, steps + 1):
+        t, lam, iterations = lagrange_newton(problem, a + (target - a) * k / steps, start)
+        start, total = (t, lam), total + iterations
+    return t, lam, total
+
+
 def _kkt_step(W, g, t, c):
     """Solve [[W, g], [g^T, 0]] [dt, lambda] = [-t, -c]. W need only be positive definite
     on the constraint's tangent space (then dt is a descent direction): W + sigma g g^T
@@ -380,7 +392,10 @@ def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lag
             start = (problem.D.T @ moved, start.multiplier)
         else:
             start = flat_start(problem, target)
-        t, lam, iterations = lagrange_newton(problem, target, start)
+        try:
+            t, lam, iterations = lagrange_newton(problem, target, start)
+        except DeformError:
+            t, lam, iterations = continued(problem, target, start)
     elif method == "Penalty":
         t, lam, iterations = penalty_newton(problem, target)
     else:
