@@ -123,18 +123,25 @@ def _moved(shapes, matrix):
 
 def sewn_solid(faces, joints, deviation, prop):
     """One valid solid from faces that meet within `deviation` (sewn at a few times it;
-    voids kept), its faces merged again across the joint planes."""
+    voids kept), its faces merged again across the joint planes. Faces of a real file meet
+    only within its edge tolerances (its pcurves miss each other by up to 5e-4 mm), farther
+    than FreeCAD 0.20's sewing reaches (1e-6 mm, whatever it is asked): then all are sewn
+    at twice the largest tolerance of the faces left open (_sewn_wide) and the tolerances
+    brought down again to what each edge needs."""
     tol = max(4.0 * deviation, 1e-6)
     sewn = _sewn(faces, tol)
     loose = _with_free_edges(sewn.Faces)
+    wide = None
     if loose:
-        # edges farther apart than FreeCAD 0.20's sewing reaches (1e-6 mm, whatever it is
-        # asked; a real file's own edge tolerances): a fuzzy general fuse of the faces
-        # around the gaps shares them, then all is sewn again
-        fuzzy = max([tol] + [2.0 * e.Tolerance for f in loose for e in f.Edges])
-        fused = loose[0].generalFuse(loose[1:], fuzzy)[0]
-        keep = [f for f in sewn.Faces if not any(f.isSame(g) for g in loose)]
-        sewn = _sewn(keep + fused.Faces, tol)
+        wide = max([tol] + [2.0 * e.Tolerance for f in loose for e in f.Edges])
+        sewn = _sewn_wide(faces, wide)
+        if brep.closed_shells(sewn) is None:
+            # a fuzzy general fuse of the faces around the gaps shares them, then all is
+            # sewn again (it works on copies: rigid faces next to the gaps may be refit)
+            loose = _with_free_edges(sewn.Faces)
+            fused = loose[0].generalFuse(loose[1:], wide)[0]
+            keep = [f for f in sewn.Faces if not any(f.isSame(g) for g in loose)]
+            sewn = _sewn(keep + fused.Faces, tol)
     shells = brep.closed_shells(sewn)
     if shells is None:
         raise DeformError(f"The mapped faces do not close a solid (gaps above "
@@ -143,6 +150,8 @@ def sewn_solid(faces, joints, deviation, prop):
     if solid is None:
         raise DeformError("The mapped region falls apart into separate bodies; change "
                           "Plane2 so the region is one piece.", "Plane2")
+    if wide is not None:
+        solid = _tightened(solid, wide)
     try:  # the split faces merged again across the joints, on a copy (OCCT edits in place)
         copy = solid.copy()
         return brep.join_faces(copy.Faces, joints, prop)
@@ -152,6 +161,34 @@ def sewn_solid(faces, joints, deviation, prop):
         raise DeformError(f"The mapped faces do not join into one valid solid; lower {prop}.",
                           prop)
     return solid
+
+
+def _sewn_wide(faces, tol):
+    """The faces sewn at `tol` (copies, their tolerances raised to it): FreeCAD 1.0 and
+    later pass `tol` to OCCT's sewing; 0.20 does not, but its Part.Shell sews an invalid
+    shell at the mean tolerance of its parts, which is then `tol`."""
+    compound = Part.makeCompound(faces).copy()
+    compound.fixTolerance(tol)
+    sewn = compound.copy()
+    sewn.sewShape(tol)
+    if not _with_free_edges(sewn.Faces):
+        return sewn
+    try:
+        shell = Part.Shell(compound.Faces)
+    except Part.OCCError:  # the sewing gave more than one shell
+        return sewn
+    return shell if not _with_free_edges(shell.Faces) else sewn
+
+
+def _tightened(solid, tol):
+    """The solid sewn at `tol` with each edge's tolerance set to what its curves need (the
+    rigid faces' own again), when OCCT's shape fixing makes that valid."""
+    fixed = solid.copy()
+    fixed.fix(1e-7, 1e-7, tol)
+    tight = fixed.copy()
+    tight.limitTolerance(1e-7, 1e-7)
+    tight.fix(1e-7, 1e-7, tol)
+    return tight if tight.isValid() else fixed
 
 
 def _sewn(faces, tol):

@@ -8,7 +8,6 @@ from . import cases
 # Cases that do not pass yet (issue 10 stays open for them); strict: one that starts to pass
 # fails here until it is taken off this list. Those that take minutes are not run.
 OPEN = {
-    "twist-nist_ftc_10_asme1_rb-70": "Twist map: far faces not kept",
 }
 SLOW = {
     "twist-occt_Bottom-50": "the mapped faces do not close (refused after about 3 minutes)",
