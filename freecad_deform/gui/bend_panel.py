@@ -1,5 +1,5 @@
 """The Bend task panel: Plane, Angle, Axis (point, direction, or picked), UsePlane2 / Plane2,
-Samples, and the results."""
+Samples, Profile, Tolerance, and the results."""
 import FreeCAD as App
 from PySide import QtGui
 
@@ -11,7 +11,8 @@ from .widgets import direction_of
 
 class BendPanel(SplitSweepPanel):
     TYPE = "Bend"
-    EDITABLE = ("Plane", "Angle", "Axis", "UsePlane2", "Plane2", "Samples")
+    EDITABLE = ("Plane", "Angle", "Axis", "UsePlane2", "Plane2", "Samples", "Profile",
+                "Tolerance")
 
     def build(self, layout):
         self.add_plane(layout)
@@ -23,6 +24,7 @@ class BendPanel(SplitSweepPanel):
         self.add_use_plane2(form)
         self.add_plane2_offset(form)
         self.add_samples(form, minimum=1)
+        self.add_flex(form)
         layout.addLayout(form)
         self.add_results(layout)
 

@@ -129,6 +129,26 @@ class TwistCommand(CommandBase):
         return make_twist(base, plane, plane2, self.ANGLE, axis)
 
 
+class TaperCommand(CommandBase):
+    NAME = "Deform_Taper"
+    TYPE = "Taper"
+    MENU_TEXT = "Taper"
+    TOOL_TIP = ("Taper a solid, mesh or point cloud between two parallel planes: sections "
+                "between Plane and Plane2 are scaled across the axis from 1 to Scale, the part "
+                "beyond Plane2 is scaled by Scale.\n"
+                "Select one solid, mesh or point cloud, optionally with a planar face or a "
+                "datum plane that gives Plane and a straight edge or a datum line that gives "
+                "the axis (else the Plane normal through the section's centroid).")
+    AXIS = True
+    SCALE = 0.8
+
+    def create(self, base, picked_plane, picked_axis=None):
+        from ..api import make_taper
+        plane, plane2 = selection.suggested_twist(base, picked_plane)
+        axis = None if picked_axis is None else selection.axis_through(picked_axis, plane)
+        return make_taper(base, plane, plane2, self.SCALE, axis)
+
+
 class DimensionDriveCommand(CommandBase):
     NAME = "Deform_DimensionDrive"
     TYPE = "DimensionDrive"
@@ -259,7 +279,7 @@ class DirectPushCommand(CommandBase):
         return obj
 
 
-COMMANDS = [StretchCommand, BendCommand, TwistCommand, DimensionDriveCommand,
+COMMANDS = [StretchCommand, BendCommand, TwistCommand, TaperCommand, DimensionDriveCommand,
             AreaConstrainCommand, DirectPushCommand]
 TOOLBAR = [c.NAME for c in COMMANDS]
 

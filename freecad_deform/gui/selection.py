@@ -361,9 +361,9 @@ def suggested_bend(base, picked_plane=None, picked_line=None):
 
 
 def suggested_twist(base, picked_plane=None):
-    """(Plane, Plane2) of a new Twist: at 1/3 and 2/3 of the part's longest side; with a
-    picked plane, that plane (moved into the part if it misses it) and Plane2 halfway from
-    it to the far end of the part."""
+    """(Plane, Plane2) of a new Twist or Taper: at 1/3 and 2/3 of the part's longest side;
+    with a picked plane, that plane (moved into the part if it misses it) and Plane2 halfway
+    from it to the far end of the part."""
     if picked_plane is None:
         bb = bound_box(base)
         lengths = [bb.XLength, bb.YLength, bb.ZLength]

@@ -9,19 +9,21 @@ from PySide import QtGui
 
 from ..shapes.convert import plane_placement
 from . import selection
-from .task_panel import (TaskPanelBase, on_value_changed, quantity_spin_box, set_spin_value,
-                         spin_value)
+from .task_panel import (TaskPanelBase, number, on_value_changed, quantity_spin_box,
+                         set_spin_value, spin_value)
 from .widgets import PlacementGroup, ResultsGroup, direction_of
 
 
 class SplitSweepPanel(TaskPanelBase):
     """Subclasses set TYPE, EDITABLE and PLANE2 and write build(layout) from add_plane,
-    add_quantity, add_use_plane2, add_plane2_offset, add_axis, add_samples, add_results."""
+    add_quantity, add_check, add_choice, add_use_plane2, add_plane2_offset, add_axis,
+    add_samples, add_flex, add_results."""
 
     PLANE2 = "optional"   # "optional": UsePlane2 switches Plane2 on; "always": Twist
 
     def __init__(self, *args, **kwargs):
         self.quantities = {}  # property -> (QuantitySpinBox, ExpressionBinding)
+        self.checks, self.choices = {}, {}  # property -> QCheckBox / QComboBox
         self.plane = self.axis = self.results = None
         self.use_plane2 = self.plane2_offset = self.samples = None
         super().__init__(*args, **kwargs)
@@ -62,6 +64,33 @@ class SplitSweepPanel(TaskPanelBase):
         form.addRow(prop, box)
         return box
 
+    def add_check(self, form, prop, toggled=None):
+        """A check box named `prop`, bound to the bool property; `toggled(checked)` runs
+        after the property is set (before the preview)."""
+        box = QtGui.QCheckBox(prop)
+        box.setObjectName(prop)
+        box.setToolTip(self.obj.getDocumentationOfProperty(prop))
+        box.toggled.connect(lambda checked: self.on_check(prop, checked, toggled))
+        self.checks[prop] = box
+        form.addRow(box)
+        return box
+
+    def add_choice(self, form, prop):
+        """A combo box named `prop` with the enumeration property's values."""
+        combo = QtGui.QComboBox()
+        combo.setObjectName(prop)
+        combo.addItems(self.obj.getEnumerationsOfProperty(prop))
+        combo.setToolTip(self.obj.getDocumentationOfProperty(prop))
+        combo.currentIndexChanged.connect(lambda _: self.on_choice(prop, combo.currentText()))
+        self.choices[prop] = combo
+        form.addRow(prop, combo)
+        return combo
+
+    def add_flex(self, form):
+        """Profile and Tolerance: how the space map grows and how close its fits stay."""
+        self.add_choice(form, "Profile")
+        self.add_quantity(form, "Tolerance", "mm", 1e-9, 1e6)
+
     def add_use_plane2(self, form):
         self.use_plane2 = QtGui.QCheckBox("UsePlane2")
         self.use_plane2.setObjectName("UsePlane2")
@@ -98,7 +127,11 @@ class SplitSweepPanel(TaskPanelBase):
         if self.axis is not None:
             self.axis.show(obj.Axis)
         for prop, (box, _) in self.quantities.items():
-            set_spin_value(box, getattr(obj, prop).Value)
+            set_spin_value(box, number(getattr(obj, prop)))
+        for prop, box in self.checks.items():
+            box.setChecked(bool(getattr(obj, prop)))
+        for prop, combo in self.choices.items():
+            combo.setCurrentIndex(combo.findText(getattr(obj, prop)))
         if self.use_plane2 is not None:
             self.use_plane2.setChecked(bool(obj.UsePlane2))
         if self.plane2_offset is not None:
@@ -238,7 +271,23 @@ class SplitSweepPanel(TaskPanelBase):
         self.set_property("Axis", plane_placement((axis.Base, -direction_of(axis)), "Axis"))
         self.reload()
 
-    # --- quantities and Samples -------------------------------------------------------------------
+    # --- quantities, checks and Samples -----------------------------------------------------------
+    def on_check(self, prop, checked, toggled=None):
+        if self._loading or self.closed:
+            return
+        try:
+            setattr(self.obj, prop, bool(checked))
+            if toggled is not None:
+                toggled(checked)
+        except Exception as e:
+            self.show_error(str(e))
+            return
+        self.schedule_recompute()
+
+    def on_choice(self, prop, value):
+        if value and value != getattr(self.obj, prop):
+            self.set_property(prop, value)
+
     def on_quantity_edited(self, prop):
         if self._loading:
             return

@@ -59,6 +59,11 @@ def spin_value(box):
     return float(box.property("rawValue"))
 
 
+def number(value):
+    """A property's value as a float: a Quantity's Value, or the float itself."""
+    return float(getattr(value, "Value", value))
+
+
 def set_spin_value(box, value):
     box.setProperty("rawValue", float(value))
 
@@ -118,7 +123,11 @@ class TaskPanelBase:
         self.form.setWindowTitle(self.TITLE or self.TYPE)
         self.form.setWindowIcon(QtGui.QIcon(icon_path(self.TYPE)))
         layout = QtGui.QVBoxLayout(self.form)
-        self.build(layout)
+        self._loading = True  # a field's range set while building emits no edit
+        try:
+            self.build(layout)
+        finally:
+            self._loading = False
         self.error_label = QtGui.QLabel()
         self.error_label.setObjectName("ErrorLabel")
         self.error_label.setStyleSheet(ERROR_STYLE)
@@ -168,7 +177,7 @@ class TaskPanelBase:
             self.schedule_recompute()
             return
         value = spin_value(box)
-        if abs(value - getattr(self.obj, prop).Value) > 1e-12:
+        if abs(value - number(getattr(self.obj, prop))) > 1e-12:
             self.set_property(prop, value)
 
     def schedule_recompute(self):

@@ -1,14 +1,16 @@
-"""The Twist task panel: Plane, Plane2 offset, Angle, UseAxis / Axis, Samples, and the
-results."""
+"""The Twist task panel: Plane, Plane2 offset, Angle (whole turns included), UseAxis / Axis,
+Samples, Profile, Tolerance, and the results."""
 from PySide import QtGui
 
 from . import selection
 from .split_sweep_panel import SplitSweepPanel
+from .task_panel import set_spin_value, spin_value
 
 
 class TwistPanel(SplitSweepPanel):
     TYPE = "Twist"
-    EDITABLE = ("Plane", "Plane2", "Angle", "UseAxis", "Axis", "Samples")
+    EDITABLE = ("Plane", "Plane2", "Angle", "Turns", "UseAxis", "Axis", "Samples", "Profile",
+                "Tolerance")
     PLANE2 = "always"
 
     def build(self, layout):
@@ -25,11 +27,13 @@ class TwistPanel(SplitSweepPanel):
         self.add_axis(layout)
         form = QtGui.QFormLayout()
         self.add_samples(form, minimum=2)
+        self.add_flex(form)
         layout.addLayout(form)
         self.add_results(layout)
 
     def load(self):
         super().load()
+        set_spin_value(self.angle, self.obj.Angle.Value + 360.0 * self.obj.Turns)
         self.use_axis.setChecked(bool(self.obj.UseAxis))
         self.axis.set_fields_enabled(bool(self.obj.UseAxis))  # Pick axis also turns it on
 
@@ -54,3 +58,21 @@ class TwistPanel(SplitSweepPanel):
         axis = super().picked_axis(line)
         self.obj.UseAxis = True
         return axis
+
+    def quantity_edited(self, prop, box, binding):
+        """The Angle field holds the whole twist: its whole turns go to Turns (an angle
+        property holds at most 360 deg, and would clamp 720 to it silently)."""
+        obj = self.obj
+        if prop != "Angle" or binding.hasExpression():
+            return super().quantity_edited(prop, box, binding)
+        total = spin_value(box)
+        if abs(total - (obj.Angle.Value + 360.0 * obj.Turns)) <= 1e-12:
+            return
+        turns = int(total / 360.0)
+        try:
+            obj.Turns = turns
+            obj.Angle = total - 360.0 * turns
+        except Exception as e:
+            self.show_error(str(e))
+            return
+        self.schedule_recompute()

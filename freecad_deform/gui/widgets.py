@@ -95,7 +95,8 @@ class PlacementGroup:
 
 
 class ResultsGroup:
-    """The read-only outputs of a split-sweep feature: VolumeChange and Continuity."""
+    """The read-only outputs of a split-sweep feature: VolumeChange, Continuity, and
+    MaxDeviation where the feature has it."""
 
     def __init__(self, obj):
         self.box = QtGui.QGroupBox("Result")
@@ -111,6 +112,13 @@ class ResultsGroup:
         self.continuity.setToolTip(self._continuity_doc)
         form.addRow("VolumeChange", self.volume_change)
         form.addRow("Continuity", self.continuity)
+        self.deviation = None
+        if "MaxDeviation" in obj.PropertiesList:  # the features with a space map
+            self.deviation = QtGui.QLineEdit()
+            self.deviation.setObjectName("MaxDeviation")
+            self.deviation.setReadOnly(True)
+            self.deviation.setToolTip(obj.getDocumentationOfProperty("MaxDeviation"))
+            form.addRow("MaxDeviation", self.deviation)
 
     def show(self, obj):
         self.volume_change.setText(f"{obj.VolumeChange:.6g} mm³")
@@ -119,7 +127,11 @@ class ResultsGroup:
         self.continuity.setCursorPosition(0)
         self.continuity.setToolTip("\n".join((obj.Continuity or "-").split("; "))
                                    + "\n\n" + self._continuity_doc)
+        if self.deviation is not None:
+            self.deviation.setText(f"{obj.MaxDeviation:.3g} mm")
 
     def clear(self):
         self.volume_change.clear()
         self.continuity.clear()
+        if self.deviation is not None:
+            self.deviation.clear()

@@ -14,6 +14,7 @@ import os
 import sys
 import time
 import traceback
+import types
 
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -915,6 +916,12 @@ def bend_twist():
           f"{obj.Axis} {obj.VolumeChange} {v90}")
     field("UseAxis", "Twist").click()
     wait(lambda: not obj.UseAxis and settled(obj))
+    type_into(angle, "400 deg")   # an angle property holds 360 at most: the turn goes to Turns
+    check("Twist: Angle 400 deg is one turn (Turns) and 40 deg",
+          wait(lambda: obj.Turns == 1 and angle_done(obj, 40.0)) and no_error("Twist"),
+          f"{obj.Turns} {obj.Angle} {obj.getStatusString()}")
+    type_into(angle, "90 deg")
+    wait(lambda: obj.Turns == 0 and angle_done(obj, 90.0))
     field("Samples", "Twist").setValue(8)
     check("Twist: Samples previews", wait(lambda: obj.Samples == 8 and settled(obj)), obj.Samples)
     field("Samples", "Twist").setValue(16)
@@ -1667,7 +1674,13 @@ def run():
     code = 0
     try:
         # one failing part does not hide the other's checks
-        parts = (main, bend_twist, dimension_drive, area_constrain, direct_push)
+        sys.path.insert(0, os.path.join(os.environ["DEFORM_REPO"], "tests", "gui"))
+        import scenario_taper
+        harness = types.SimpleNamespace(**globals())
+
+        def taper():
+            scenario_taper.taper(harness)
+        parts = (main, bend_twist, taper, dimension_drive, area_constrain, direct_push)
         only = os.environ.get("DEFORM_GUI_ONLY")  # e.g. "direct_push" while debugging one part
         for part in (p for p in parts if not only or p.__name__ in only.split(",")):
             try:
