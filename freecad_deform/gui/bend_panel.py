@@ -13,6 +13,7 @@ class BendPanel(SplitSweepPanel):
     TYPE = "Bend"
     EDITABLE = ("Plane", "Angle", "Axis", "UsePlane2", "Plane2", "Samples", "Profile",
                 "Tolerance")
+    HANDLES = ("Plane", "Angle")
 
     def build(self, layout):
         self.add_plane(layout)

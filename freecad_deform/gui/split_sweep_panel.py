@@ -9,6 +9,7 @@ from PySide import QtGui
 
 from ..shapes.convert import plane_placement
 from . import selection
+from .handles import PanelHandles
 from .task_panel import (TaskPanelBase, number, on_value_changed, quantity_spin_box,
                          set_spin_value, spin_value)
 from .widgets import PlacementGroup, ResultsGroup, direction_of
@@ -20,13 +21,33 @@ class SplitSweepPanel(TaskPanelBase):
     add_samples, add_flex, add_results."""
 
     PLANE2 = "optional"   # "optional": UsePlane2 switches Plane2 on; "always": Twist
+    HANDLES = ()          # the 3D-view handles (gui.handles): Plane, Plane2, Distance, ...
 
     def __init__(self, *args, **kwargs):
         self.quantities = {}  # property -> (QuantitySpinBox, ExpressionBinding)
         self.checks, self.choices = {}, {}  # property -> QCheckBox / QComboBox
-        self.plane = self.axis = self.results = None
+        self.plane = self.axis = self.results = self.handles = None
         self.use_plane2 = self.plane2_offset = self.samples = None
         super().__init__(*args, **kwargs)
+        if self.HANDLES:
+            self.handles = PanelHandles(self, self.HANDLES)
+
+    # --- the 3D-view handles --------------------------------------------------------------
+    def update_status(self):
+        super().update_status()
+        if self.handles is not None and not self.handles.dragging:
+            self.handles.place()   # where the (maybe typed) values put them now
+
+    def set_plane_dragged(self, plane):
+        self._set_plane(plane)
+
+    def set_angle_dragged(self, degrees):
+        self.set_property("Angle", degrees)
+
+    def _close(self):
+        if self.handles is not None:
+            self.handles.remove()
+        super()._close()
 
     # --- building blocks ------------------------------------------------------------------------
     def add_plane(self, layout):

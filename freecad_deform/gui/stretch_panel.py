@@ -7,6 +7,7 @@ from .split_sweep_panel import SplitSweepPanel
 class StretchPanel(SplitSweepPanel):
     TYPE = "Stretch"
     EDITABLE = ("Plane", "Distance", "UsePlane2", "Plane2")
+    HANDLES = ("Plane", "Distance")
 
     def build(self, layout):
         self.add_plane(layout)

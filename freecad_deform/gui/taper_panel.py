@@ -10,6 +10,7 @@ class TaperPanel(SplitSweepPanel):
     TYPE = "Taper"
     EDITABLE = ("Plane", "Plane2", "Scale", "UseScaleXY", "ScaleX", "ScaleY", "UseAxis", "Axis",
                 "Profile", "Tolerance")
+    HANDLES = ("Plane", "Plane2", "Scale")
     PLANE2 = "always"
 
     def build(self, layout):

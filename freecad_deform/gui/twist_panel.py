@@ -11,6 +11,7 @@ class TwistPanel(SplitSweepPanel):
     TYPE = "Twist"
     EDITABLE = ("Plane", "Plane2", "Angle", "Turns", "UseAxis", "Axis", "Samples", "Profile",
                 "Tolerance")
+    HANDLES = ("Plane", "Plane2", "Angle")
     PLANE2 = "always"
 
     def build(self, layout):
@@ -59,6 +60,20 @@ class TwistPanel(SplitSweepPanel):
         self.obj.UseAxis = True
         return axis
 
+    def set_angle_dragged(self, degrees):
+        self.set_total_angle(degrees)
+
+    def set_total_angle(self, total):
+        """Angle + 360 deg x Turns = total (whole turns to Turns)."""
+        turns = int(total / 360.0)
+        try:
+            self.obj.Turns = turns
+            self.obj.Angle = total - 360.0 * turns
+        except Exception as e:
+            self.show_error(str(e))
+            return
+        self.schedule_recompute()
+
     def quantity_edited(self, prop, box, binding):
         """The Angle field holds the whole twist: its whole turns go to Turns (an angle
         property holds at most 360 deg, and would clamp 720 to it silently)."""
@@ -66,13 +81,5 @@ class TwistPanel(SplitSweepPanel):
         if prop != "Angle" or binding.hasExpression():
             return super().quantity_edited(prop, box, binding)
         total = spin_value(box)
-        if abs(total - (obj.Angle.Value + 360.0 * obj.Turns)) <= 1e-12:
-            return
-        turns = int(total / 360.0)
-        try:
-            obj.Turns = turns
-            obj.Angle = total - 360.0 * turns
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        self.schedule_recompute()
+        if abs(total - (obj.Angle.Value + 360.0 * obj.Turns)) > 1e-12:
+            self.set_total_angle(total)

@@ -1675,12 +1675,16 @@ def run():
     try:
         # one failing part does not hide the other's checks
         sys.path.insert(0, os.path.join(os.environ["DEFORM_REPO"], "tests", "gui"))
+        import scenario_handles
         import scenario_taper
         harness = types.SimpleNamespace(**globals())
 
         def taper():
             scenario_taper.taper(harness)
-        parts = (main, bend_twist, taper, dimension_drive, area_constrain, direct_push)
+
+        def handles():
+            scenario_handles.handles(harness)
+        parts = (main, bend_twist, taper, handles, dimension_drive, area_constrain, direct_push)
         only = os.environ.get("DEFORM_GUI_ONLY")  # e.g. "direct_push" while debugging one part
         for part in (p for p in parts if not only or p.__name__ in only.split(",")):
             try:

@@ -128,6 +128,10 @@ def test_all_checks_pass(gui_run):
     "Taper: UseScaleXY scales along X and Y of the frame (closed form)",
     "Taper: one valid solid after OK", "Taper: one undo step", "Taper: undo removes it",
     "Taper: Cancel leaves the document unchanged",
+    "Twist handles: two plane sliders and an angle disc in the 3D view",
+    "Twist handle: Plane lands where its handle was let go (1 px)",
+    "Twist handle: the disc turns Angle by the angle swept in its plane (1 deg)",
+    "Twist handles gone after Cancel",
     "DimensionDrive: one undo step", "DimensionDrive: undo removes it",
     "DimensionDrive: Cancel leaves the document unchanged",
     "AreaConstrain: active with a face selected", "AreaConstrain: control net drawn while open",
@@ -167,7 +171,7 @@ def test_screenshots_written(gui_run, capsys):
         "stretch_task_panel_error.png", "stretch_panel.png", "stretch_task_panel.png",
         "stretch_window.png", "stretch_result.png", "stretch_reopened.png",
         "bend_task_panel.png", "bend_result.png", "twist_task_panel.png",
-        "twist_result.png", "taper_task_panel.png", "taper_result.png", "dimension_drive.png", "dimension_drive_task_panel.png",
+        "twist_result.png", "taper_task_panel.png", "taper_result.png", "twist_handles.png", "dimension_drive.png", "dimension_drive_task_panel.png",
         "area_constrain.png", "area_constrain_task_panel.png", "direct_push.png",
         "direct_push_task_panel.png"]), names
     for path in shots:

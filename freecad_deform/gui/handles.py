@@ -1,0 +1,177 @@
+"""Handles in the 3D view for the Stretch, Bend, Twist and Taper panels: a trim plane is
+dragged along its normal, and Distance, Angle or Scale follow a handle of their own (Coin's
+translate and disc draggers). They sit just outside the part's bounding box, so the mouse
+finds them in front of the part; every drag sets the property and the preview follows."""
+import math
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore
+
+from .selection import bound_box
+from .widgets import direction_of
+
+SIZE = 0.08      # dragger size, x the Base's bounding-box diagonal
+OUT = 0.6        # distance of a handle from the box centre's projection, x the diagonal
+POLL_MS = 30     # how often a dragged handle is read
+
+
+def _frame(normal):
+    """A unit vector across `normal`: the world axis least along it, made perpendicular."""
+    axes = [App.Vector(1, 0, 0), App.Vector(0, 1, 0), App.Vector(0, 0, 1)]
+    axis = min(axes, key=lambda a: abs(a.dot(normal)))
+    across = axis - normal * axis.dot(normal)
+    return across.normalize()
+
+
+class Handle:
+    """One Coin dragger: "slide" moves along the local X of its frame, "turn" turns about its
+    local Z. Its amount is read by polling, not by a dragger callback: pivy runs those
+    without taking Python's lock, which crashes when the event comes from Python."""
+
+    def __init__(self, kind):
+        from pivy import coin
+        self.kind, self.size = kind, 1.0
+        self.root = coin.SoSeparator()
+        self.transform = coin.SoTransform()
+        self.dragger = coin.SoTranslate1Dragger() if kind == "slide" else \
+            coin.SoRotateDiscDragger()
+        self.root.addChild(self.transform)
+        self.root.addChild(self.dragger)
+
+    def place(self, point, direction, size):
+        """Put the dragger at `point`, its slide (or turn axis) along `direction`."""
+        from pivy import coin
+        local = coin.SbVec3f(1, 0, 0) if self.kind == "slide" else coin.SbVec3f(0, 0, 1)
+        self.size = size
+        self.transform.translation.setValue(point.x, point.y, point.z)
+        self.transform.rotation.setValue(
+            coin.SbRotation(local, coin.SbVec3f(direction.x, direction.y, direction.z)))
+        self.transform.scaleFactor.setValue(size, size, size)
+        if self.kind == "slide":
+            self.dragger.translation.setValue(0, 0, 0)
+        else:
+            self.dragger.rotation.setValue(coin.SbRotation())
+
+    def active(self):
+        return bool(self.dragger.isActive.getValue())
+
+    def amount(self):
+        """mm along the slide, or degrees about the turn axis, since the last place()."""
+        if self.kind == "slide":
+            return self.dragger.translation.getValue()[0] * self.size
+        x, y, z, w = self.dragger.rotation.getValue().getValue()
+        return math.degrees(2.0 * math.atan2(z, w))
+
+
+class PanelHandles:
+    """The handles of one panel (its HANDLES: "Plane", "Plane2", "Distance", "Angle",
+    "Scale"), in the active 3D view while the panel is open."""
+
+    def __init__(self, panel, names):
+        self.panel, self.obj = panel, panel.obj
+        self.handles, self.start, self.dragging = {}, {}, False
+        view = Gui.ActiveDocument.ActiveView if Gui.ActiveDocument else None
+        self.scene = view.getSceneGraph() if view is not None else None
+        if self.scene is None:
+            return
+        for name in names:
+            self.handles[name] = Handle("turn" if name == "Angle" else "slide")
+            self.scene.addChild(self.handles[name].root)
+        self.place()
+        self.amounts = {}
+        self.timer = QtCore.QTimer()
+        self.timer.setInterval(POLL_MS)
+        self.timer.timeout.connect(self.poll)
+        self.timer.start()
+
+    def poll(self):
+        """Follow a dragger while it is dragged; at its release recompute and re-place."""
+        for name, handle in self.handles.items():
+            amount = handle.amount()
+            if handle.active():
+                if amount != self.amounts.get(name, 0.0):
+                    self.amounts[name] = amount
+                    self.dragged(name, amount)
+            elif self.dragging and name in self.amounts:
+                self.dragged(name, amount)   # the last motion before the release
+                self.amounts = {}
+                self.released()
+                return
+
+    # --- where each handle sits -------------------------------------------------------------
+    def geometry(self, name):
+        """(point, direction) of a handle, from the object's properties now."""
+        obj = self.obj
+        box = bound_box(obj.Base)
+        centre, reach = App.Vector(box.Center), OUT * box.DiagonalLength
+        normal = direction_of(obj.Plane)
+        across = _frame(normal)
+
+        def in_plane(placement):
+            return centre + normal * (placement.Base - centre).dot(normal)
+
+        if name == "Plane":
+            return in_plane(obj.Plane) + across * reach, normal
+        if name == "Plane2":
+            return in_plane(obj.Plane2) + across * reach, normal
+        if name == "Distance":
+            return in_plane(obj.Plane) - across * reach + normal * obj.Distance.Value, normal
+        if name == "Scale":
+            return in_plane(obj.Plane2) - across * reach, -across
+        # Angle: about the Axis (Bend), or about the normal beyond Plane2 (Twist)
+        if self.panel.TYPE == "Bend":
+            return obj.Axis.Base, direction_of(obj.Axis)
+        return in_plane(obj.Plane2) - across * reach, normal
+
+    def place(self):
+        """Every handle where the object's properties put it, its drag reset."""
+        if self.scene is None:
+            return
+        size = SIZE * max(bound_box(self.obj.Base).DiagonalLength, 1e-6)
+        for name, handle in self.handles.items():
+            point, direction = self.geometry(name)
+            handle.place(point, direction, size)
+        self.start = {n: self._value(n) for n in self.handles}
+
+    def _value(self, name):
+        value = getattr(self.obj, name)
+        if name in ("Plane", "Plane2"):
+            return App.Placement(value)
+        if name == "Angle":
+            return value.Value + 360.0 * getattr(self.obj, "Turns", 0)
+        return float(getattr(value, "Value", value))
+
+    # --- dragging ---------------------------------------------------------------------------
+    def dragged(self, name, amount):
+        """Set the property `amount` (mm, degrees, or mm across for Scale) from where the
+        drag began; the panel shows it and previews."""
+        start, panel = self.start[name], self.panel
+        self.dragging = True
+        if name in ("Plane", "Plane2"):
+            moved = App.Placement(start)
+            moved.Base = start.Base + direction_of(start) * amount
+            if name == "Plane":
+                panel.set_plane_dragged(moved)
+            else:
+                panel.set_property("Plane2", moved)
+        elif name == "Angle":
+            panel.set_angle_dragged(start + amount)
+        elif name == "Scale":
+            reach = OUT * bound_box(self.obj.Base).DiagonalLength
+            panel.set_property("Scale", max(start * (1.0 + amount / reach), 1e-3))
+        else:
+            panel.set_property(name, start + amount)
+        panel.reload()
+
+    def released(self):
+        self.dragging = False
+        self.panel.recompute()
+        self.place()
+
+    def remove(self):
+        if self.scene is not None:
+            self.timer.stop()
+            for handle in self.handles.values():
+                self.scene.removeChild(handle.root)
+        self.handles = {}

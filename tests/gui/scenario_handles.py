@@ -1,0 +1,92 @@
+"""The 3D-view handles of the Twist panel (run by freecad_scenario.py inside FreeCAD): the
+draggers are found in Coin's scene graph, dragged with the mouse, and the properties must
+change by what the drag shows on screen: a plane lands where its handle was let go, the
+disc turns Angle by the angle swept in its plane. `h` is the scenario harness."""
+import math
+
+import FreeCAD as App
+import FreeCADGui as Gui
+import Part
+
+V = App.Vector
+
+
+def draggers(view):
+    """[(dragger type name, its frame's translation, its frame's rotation)] in the scene."""
+    from pivy import coin
+    found = []
+    for kind in ("SoTranslate1Dragger", "SoRotateDiscDragger"):
+        search = coin.SoSearchAction()
+        search.setType(coin.SoType.fromName(kind))
+        search.setInterest(coin.SoSearchAction.ALL)
+        search.apply(view.getSceneGraph())
+        for i in range(search.getPaths().getLength()):
+            path = search.getPaths()[i]
+            parent = path.getNodeFromTail(1)
+            transform = parent.getChild(0)
+            t = V(*transform.translation.getValue().getValue())
+            q = transform.rotation.getValue()
+            found.append((kind, t, q))
+    return found
+
+
+def screen(view, p):
+    return V(*view.getPointOnScreen(p), 0)
+
+
+def handles(h):
+    doc = App.newDocument("DeformHandlesTest")
+    box = doc.addObject("Part::Feature", "Box")
+    box.Shape = Part.makeBox(120, 40, 20, V(0, 200, 0))
+    doc.recompute()
+    Gui.SendMsgToActiveView("ViewFit")
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(box)
+    Gui.Command.get("Deform_Twist").run()
+    h.wait(lambda: h.panel_form("Twist") is not None)
+    obj = h.of_type(doc, "Twist")[0]
+    view = Gui.ActiveDocument.ActiveView
+    h.screenshot("twist_handles.png")   # isometric, fitted: the view the drags are made in
+    found = draggers(view)
+    slides = sorted((t for k, t, _ in found if k == "SoTranslate1Dragger"), key=lambda t: t.x)
+    discs = [t for k, t, _ in found if k == "SoRotateDiscDragger"]
+    h.check("Twist handles: two plane sliders and an angle disc in the 3D view",
+            len(slides) == 2 and len(discs) == 1 and abs(slides[0].x - 40) < 1e-9
+            and abs(slides[1].x - 80) < 1e-9, found)
+    # Plane: drag its slider along the screen image of the normal (+x)
+    start = slides[0]
+    px0, px1 = screen(view, start), screen(view, start + V(10, 0, 0))
+    along = px1 - px0                      # pixels per 10 mm along the normal
+    unit = V(along).normalize()
+    moves = [(unit.x * 4 * k, unit.y * 4 * k) for k in range(1, 16)]   # 60 px
+    release, _ = h.drag_3d(start, moves)
+    h.wait(lambda: h.settled(obj))
+    dragged = (V(release[0], release[1], 0) - px0).dot(along) / along.Length ** 2 * 10.0
+    mm_per_px = 10.0 / along.Length
+    h.check("Twist handle: Plane lands where its handle was let go (1 px)",
+            abs(obj.Plane.Base.x - (40.0 + dragged)) < mm_per_px
+            and abs(obj.Plane2.Base.x - obj.Plane.Base.x - 40.0) < 1e-6
+            and "Invalid" not in obj.State,
+            f"Plane x {obj.Plane.Base.x}, expected {40 + dragged} (1 px = {mm_per_px:.3g} mm); "
+            f"Plane2 x {obj.Plane2.Base.x}; {obj.getStatusString()}")
+    # Angle: sweep the disc from one point of it to another, about its axis (the normal)
+    centre = [t for k, t, _ in draggers(view) if k == "SoRotateDiscDragger"][0]
+    radius = 0.05 * box.Shape.BoundBox.DiagonalLength   # on the disc (its radius is 0.08 x)
+    a0 = obj.Angle.Value + 360.0 * obj.Turns
+
+    def on_disc(theta):
+        return centre + V(0, math.cos(theta), math.sin(theta)) * radius
+
+    first = screen(view, on_disc(0.0))
+    sweep = math.radians(50.0)
+    moves = [tuple(screen(view, on_disc(sweep * k / 10.0)) - first)[:2] for k in range(1, 11)]
+    h.drag_3d(on_disc(0.0), moves)
+    h.wait(lambda: h.settled(obj))
+    turned = obj.Angle.Value + 360.0 * obj.Turns - a0
+    h.check("Twist handle: the disc turns Angle by the angle swept in its plane (1 deg)",
+            abs(abs(turned) - 50.0) < 1.0 and "Invalid" not in obj.State,
+            f"Angle {a0} -> {obj.Angle.Value + 360.0 * obj.Turns}: {turned} deg")
+    h.press("Cancel")
+    h.check("Twist handles gone after Cancel", not draggers(view), draggers(view))
+    App.closeDocument(doc.Name)
+    h.process(0.2)
