@@ -1,4 +1,5 @@
 """What every Deform feature shares: its properties, saving, the base it reads, its errors."""
+import contextlib
 import functools
 import math
 import sys
@@ -105,9 +106,21 @@ class DeformFeature:
         if own is not None:
             @functools.wraps(own)
             def execute(self, obj):
-                self.check_inputs(obj)
-                return own(self, obj)
+                with self.recording():
+                    self.check_inputs(obj)
+                    return own(self, obj)
             cls.execute = execute
+
+    @contextlib.contextmanager
+    def recording(self):
+        """Keep the property a refusal names in `error_prop` (None after a success), so a
+        task panel can mark that field; FreeCAD itself keeps only the message."""
+        self.error_prop = None
+        try:
+            yield
+        except DeformError as e:
+            self.error_prop = e.prop
+            raise
 
     def check_inputs(self, obj):
         """No self-link or cycle through Base, no NaN or infinite property value."""
@@ -140,6 +153,10 @@ class DeformFeature:
     __setstate__ = loads
 
     def execute(self, obj):
+        with self.recording():
+            self._execute(obj)
+
+    def _execute(self, obj):
         self.check_inputs(obj)
         kind = base_kind(obj.Base)
         if not hasattr(self, "RESULT") and obj.TypeId != RESULT_TYPES[kind]:

@@ -20,7 +20,8 @@ from PySide import QtCore, QtGui
 from . import icon_path
 from .view_providers import feature_type
 
-ERROR_STYLE = "QLabel { color: #c00000; font-weight: bold; }"
+ERROR_COLOR = "#c00000"
+ERROR_STYLE = f"QLabel {{ color: {ERROR_COLOR}; font-weight: bold; }}"
 
 
 def panel_class(obj):
@@ -204,10 +205,32 @@ class TaskPanelBase:
     def update_status(self):
         if is_invalid(self.obj):
             self.show_error(self.obj.getStatusString())
+            self.mark_field(getattr(getattr(self.obj, "Proxy", None), "error_prop", None))
             self.clear_results()
         else:
             self.show_error(None)
+            self.mark_field(None)
             self.show_results()
+
+    def mark_field(self, prop):
+        """Outline in red the field (or group) of the property a refusal names; clear the
+        last one. A field is named after its property (a group: property + "Group")."""
+        old = getattr(self, "_marked", None)
+        if old is not None:
+            try:
+                old.setStyleSheet("")
+                old.setProperty("deformError", False)
+            except RuntimeError:   # its widget is gone
+                pass
+        self._marked = None
+        if not prop:
+            return
+        widget = self.form.findChild(QtGui.QWidget, prop) or \
+            self.form.findChild(QtGui.QWidget, prop + "Group")
+        if widget is not None:
+            widget.setStyleSheet(f"#{widget.objectName()} {{ border: 2px solid {ERROR_COLOR}; }}")
+            widget.setProperty("deformError", True)
+            self._marked = widget
 
     def show_error(self, message):
         if message:

@@ -268,13 +268,16 @@ def main():
           shown and "Plane" in field("ErrorLabel").text()
           and "c00000" in field("ErrorLabel").styleSheet(),
           f"{field('ErrorLabel').text()!r} normal={normal}")
+    check("bad Plane: the Plane group is outlined red",
+          field("PlaneGroup").property("deformError") is True
+          and "c00000" in field("PlaneGroup").styleSheet(), field("PlaneGroup").styleSheet())
     check("bad Plane: no dialog", QtGui.QApplication.activeModalWidget() is None)
     grab = os.path.join(OUT, "stretch_task_panel_error.png")
     panel_form().grab().save(grab)
     results["screenshots"].append(grab)
     type_into(origin_x, f"{old_x} mm")
-    check("error clears", wait(lambda: not field("ErrorLabel").isVisible()),
-          field("ErrorLabel").text())
+    check("error clears", wait(lambda: not field("ErrorLabel").isVisible())
+          and not field("PlaneGroup").property("deformError"), field("ErrorLabel").text())
     screenshot("stretch_panel.png")
     grab = os.path.join(OUT, "stretch_task_panel.png")
     panel_form().grab().save(grab)
@@ -696,6 +699,8 @@ def bend_twist():
     type_into(angle, "-30 deg")  # the far part would swing into the near one
     check("Bend: wrong sign of Angle is a red error naming Angle",
           wait(lambda: error_shown("Bend", "Angle")), field("ErrorLabel", "Bend").text())
+    check("Bend: the Angle field is outlined red", angle.property("deformError") is True,
+          angle.styleSheet())
     check("Bend: no dialog for the error", QtGui.QApplication.activeModalWidget() is None)
     type_into(angle, "0.75 rad")
     import math

@@ -118,6 +118,7 @@ def test_all_checks_pass(gui_run):
     "DimensionDrive: regions in colour while open", "DimensionDrive: picks give the top and bottom planes",
     "DimensionDrive: a click in the 3D view picks a region", "DimensionDrive: valid, Achieved = 40",
     "Twist: Angle 400 deg is one turn (Turns) and 40 deg",
+    "bad Plane: the Plane group is outlined red", "Bend: the Angle field is outlined red",
     "Taper registered, with its icon", "toolbar and menu: Taper after Twist",
     "Taper active with the solid selected", "Taper panel opens",
     "Taper defaults: planes at x = 40 and 80, Scale 0.8, valid",
