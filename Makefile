@@ -28,6 +28,8 @@ bench: deps
 	$(PY) benchmarks/bench_dimension_drive.py
 	$(PY) benchmarks/bench_area_constrain.py
 	$(PY) benchmarks/bench_direct_push.py
+	$(PY) benchmarks/bench_flex.py
+	$(PY) benchmarks/mesh_samples.py
 
 # the real-parts matrix (issue 10) as a table: case, result, oracle error, seconds, OCCT floor
 realparts: deps
