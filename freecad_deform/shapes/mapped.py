@@ -77,7 +77,11 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
     end = smap.end
     joints = [(o, n), (end[:3, :3] @ (o + gap * n) + end[:3, 3],
                        _unit(np.linalg.inv(end[:3, :3]).T @ n))]
-    return sewn_solid(faces, joints, worst, prop), worst
+    # the region's own faces meet only within their edges' and vertices' tolerances (a
+    # real file's: up to 0.01 mm), and so do their images
+    slack = max([v.Tolerance for f in inside for v in f.Vertexes]
+                + [e.Tolerance for f in inside for e in f.Edges])
+    return sewn_solid(faces, joints, worst, prop, slack), worst
 
 
 def _shared_on_plane(a, b, origin, normal):
@@ -121,12 +125,13 @@ def _moved(shapes, matrix):
     return [s.transformGeometry(App.Matrix(*m.ravel())) for s in shapes]
 
 
-def sewn_solid(faces, joints, deviation, prop):
+def sewn_solid(faces, joints, deviation, prop, slack=0.0):
     """One valid solid from faces that meet within `deviation` (sewn at a few times it;
     voids kept), its faces merged again across the joint planes. Faces of a real file meet
     only within its edge tolerances (its pcurves miss each other by up to 5e-4 mm), farther
     than FreeCAD 0.20's sewing reaches (1e-6 mm, whatever it is asked): then all are sewn
-    at twice the largest tolerance of the faces left open (_sewn_wide) and the tolerances
+    at twice the largest tolerance of the faces left open (_sewn_wide), doubled while gaps
+    stay up to twice `slack` (the tolerance of the faces the map took), and the tolerances
     brought down again to what each edge needs."""
     tol = max(4.0 * deviation, 1e-6)
     sewn = _sewn(faces, tol)
@@ -135,6 +140,9 @@ def sewn_solid(faces, joints, deviation, prop):
     if loose:
         wide = max([tol] + [2.0 * e.Tolerance for f in loose for e in f.Edges])
         sewn = _sewn_wide(faces, wide)
+        while brep.closed_shells(sewn) is None and wide < 2.0 * slack:
+            wide = min(2.0 * wide, 2.0 * slack)
+            sewn = _sewn_wide(faces, wide)
         if brep.closed_shells(sewn) is None:
             # a fuzzy general fuse of the faces around the gaps shares them, then all is
             # sewn again (it works on copies: rigid faces next to the gaps may be refit)
@@ -168,7 +176,7 @@ def _sewn_wide(faces, tol):
     later pass `tol` to OCCT's sewing; 0.20 does not, but its Part.Shell sews an invalid
     shell at the mean tolerance of its parts, which is then `tol`."""
     compound = Part.makeCompound(faces).copy()
-    compound.fixTolerance(tol)
+    compound.limitTolerance(tol)  # raised to tol, larger ones kept (a file's own 0.01 mm)
     sewn = compound.copy()
     sewn.sewShape(tol)
     if not _with_free_edges(sewn.Faces):
@@ -181,14 +189,19 @@ def _sewn_wide(faces, tol):
 
 
 def _tightened(solid, tol):
-    """The solid sewn at `tol` with each edge's tolerance set to what its curves need (the
-    rigid faces' own again), when OCCT's shape fixing makes that valid."""
-    fixed = solid.copy()
-    fixed.fix(1e-7, 1e-7, tol)
-    tight = fixed.copy()
+    """The solid sewn at `tol` (fixed by OCCT if it is not valid), with each edge's
+    tolerance set back to what its curves need when OCCT's shape fixing does that without
+    changing a face (it bridges an edge whose tolerance a file set far above its gap)."""
+    if not solid.isValid():
+        solid = solid.copy()
+        solid.fix(1e-7, 1e-7, tol)
+    tight = solid.copy()
     tight.limitTolerance(1e-7, 1e-7)
     tight.fix(1e-7, 1e-7, tol)
-    return tight if tight.isValid() else fixed
+    same = len(tight.Faces) == len(solid.Faces) and len(tight.Edges) == len(solid.Edges) \
+        and all(abs(a.Area - b.Area) <= 1e-12 * max(a.Area, 1.0)
+                for a, b in zip(tight.Faces, solid.Faces))
+    return tight if same and tight.isValid() else solid
 
 
 def _sewn(faces, tol):
@@ -370,7 +383,7 @@ def _fitted(face, point_map, tol):
     fit = surface_fit.fit_surface(mapped, (u0, u1), (v0, v1), tol, degree=DEGREE,
                                   breaks=(ub, vb))
     new = bspline_surface(fit)
-    if not bspline.trimmed(face):  # all of its surface's rectangle: OCCT bounds it itself
+    if bspline.natural(face):  # all of its surface's rectangle: OCCT bounds it itself
         built = Part.Face(new)     # (seams and degenerated edges made right)
         if face.Orientation == "Reversed":
             built.reverse()

@@ -10,7 +10,6 @@ from . import cases
 OPEN = {
 }
 SLOW = {
-    "twist-occt_Bottom-50": "the mapped faces do not close (refused after about 3 minutes)",
     "areaconstrain-occt_terrain-Face1": "every interior pole of 312 x 323: over 15 minutes",
 }
 CASES = [pytest.param(c, marks=pytest.mark.xfail(strict=True, reason=OPEN[c.id]))
