@@ -1,13 +1,14 @@
 """Macro API: make_stretch(), make_bend(), make_twist(), make_taper(), make_dimension_drive(),
 make_area_constrain(), make_direct_push(). Each creates one feature in one
-transaction and recomputes; the keyword arguments are the object's properties."""
+transaction and recomputes; the keyword arguments are the object's properties.
+solve() is the goal seek of the batch command line."""
 import FreeCAD as App
 import numpy as np
 
 from .features.base import RESULT_TYPES, base_kind
 from .features.area_constrain import AreaConstrain
 from .features.bend import Bend
-from .features.dimension_drive import DimensionDrive
+from .features.dimension_drive import DimensionDrive, proxy_for
 from .features.direct_push import DirectPush
 from .features.stretch import Stretch
 from .features.taper import Taper
@@ -34,7 +35,8 @@ def _make(proxy_class, base, values):
     caller's, if one is open). A call that raises leaves the document as it was: the new
     object removed, the Base shown again, no transaction left open."""
     doc = base.Document
-    base_kind(base)  # an empty or unknown Base is refused before anything is opened
+    # an empty or unknown Base is refused before anything is opened
+    getattr(proxy_class, "check_base", base_kind)(base)
     own = doc.UndoMode > 0 and not (doc.HasPendingTransaction or App.getActiveTransaction())
     if own:
         doc.openTransaction(proxy_class.TYPE)
@@ -138,7 +140,7 @@ def make_dimension_drive(mesh_obj, kind, regions, target, **options):
         values["Target"] = target
     for prop, value in _options(DimensionDrive, "make_dimension_drive", options).items():
         values[prop] = App.Vector(*value) if prop in ("Origin", "AxisPoint") else value
-    return _make(DimensionDrive, mesh_obj, values)
+    return _make(proxy_for(mesh_obj), mesh_obj, values)
 
 
 def make_area_constrain(base, face, target_area, poles=None, dof="Normal", **options):
@@ -183,3 +185,12 @@ def make_direct_push(base, element, point, target, **options):
     if options:
         raise TypeError(f"make_direct_push() got unknown options {sorted(options)}")
     return _make(DirectPush, base, values)
+
+
+def solve(doc, vary, target=None, minimize=None, maximize=None, **options):
+    """Goal seek: the values of `vary` ({"Stretch.Distance": (lo, hi)}) that make
+    `target` ({"Stretch.VolumeChange": value}) hold, or that minimise or maximise one
+    output. Returns {"Stretch.Distance": value, "residual": r, "iterations": n}; the
+    document is left recomputed at the solution."""
+    from .batch.solve import solve as goal_seek
+    return goal_seek(doc, vary, target, minimize, maximize, **options)

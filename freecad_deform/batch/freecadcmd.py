@@ -1,0 +1,22 @@
+"""The command line inside FreeCAD's console, for the add-on installed in a Mod folder
+(FreeCAD restores only installed add-ons' objects there):
+
+    freecadcmd /path/to/freecad_deform/batch/freecadcmd.py -- sweep DOC.FCStd --table ...
+
+`--` keeps freecadcmd from reading the options itself. Exits with the command's status."""
+import os
+import sys
+import traceback
+
+if not __package__:  # run as a file by freecadcmd, not imported
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.realpath(__file__)))))
+    from freecad_deform.batch.cli import main
+
+    argv = sys.argv[1:]
+    try:  # freecadcmd would print an uncaught error and exit with status 0
+        status = main(argv[1:] if argv[:1] == ["--"] else argv)
+    except Exception:
+        traceback.print_exc()
+        status = 1
+    sys.exit(status)
