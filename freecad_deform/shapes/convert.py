@@ -41,8 +41,52 @@ def vector(array):
     return App.Vector(*(float(x) for x in array))
 
 
+PLY_FROM = 20000   # facets: below this FreeCAD's Topology lists are as fast as a file
+PLY_HEADER = ("property float32 x\nproperty float32 y\nproperty float32 z\nelement face {}\n"
+              "property list uchar int vertex_index\nend_header\n")
+
+
 def mesh_arrays(mesh):
-    """(vertices (N,3) float, triangles (M,3) int) of a Mesh.Mesh, in global coordinates."""
+    """(vertices (N,3) float, triangles (M,3) int) of a Mesh.Mesh, in global coordinates.
+
+    Read from the binary PLY FreeCAD writes (its float32 points and facets in order, about
+    ten times faster than its Topology lists); the placement applied in double afterwards,
+    as Topology does. Topology is the fallback for a PLY of another layout."""
+    import os
+    import tempfile
+    if mesh.CountFacets < PLY_FROM:
+        return _topology_arrays(mesh)
+    raw = mesh
+    if not mesh.Placement.isIdentity():
+        raw = mesh.copy()
+        raw.Placement = App.Placement()
+    handle, path = tempfile.mkstemp(suffix=".ply")
+    os.close(handle)
+    try:
+        raw.write(path)
+        with open(path, "rb") as f:
+            data = f.read()
+    finally:
+        os.remove(path)
+    end = data.find(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii", "replace")
+    try:
+        nv = int(header.split("element vertex ")[1].split()[0])
+        nf = int(header.split("element face ")[1].split()[0])
+    except (IndexError, ValueError):
+        nv = nf = -1
+    if nv < 0 or not header.endswith(PLY_HEADER.format(nf)) or \
+            len(data) != end + 12 * nv + 13 * nf:
+        return _topology_arrays(mesh)
+    vertices = np.frombuffer(data, "<f4", 3 * nv, end).reshape(-1, 3).astype(float)
+    faces = np.frombuffer(data, np.dtype([("n", "u1"), ("i", "<i4", 3)]), nf, end + 12 * nv)
+    if raw is not mesh:
+        m = matrix_array(mesh.Placement)
+        vertices = vertices @ m[:3, :3].T + m[:3, 3]
+    return vertices, faces["i"].astype(np.int64)
+
+
+def _topology_arrays(mesh):
     points, facets = mesh.Topology
     flat = np.fromiter((c for p in points for c in p), float, count=3 * len(points))
     return flat.reshape(-1, 3), np.array(facets, dtype=np.int64).reshape(-1, 3)
@@ -93,8 +137,27 @@ def points_array(points):
 
 
 def points_from_array(array):
+    """A Points.Points of the (N,3) array, restored from the binary form FreeCAD saves it in
+    (a count, then float32 x y z; it stores float32 either way): seven times faster than a
+    list of Vectors for a million points."""
+    import io
+    import zipfile
+
     import Points
-    return Points.Points([App.Vector(*p) for p in np.asarray(array, float).tolist()])
+    pts = np.ascontiguousarray(np.asarray(array, float).reshape(-1, 3), dtype="<f4")
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED) as archive:
+        archive.writestr("Persistence.xml", '<Content>\n<Points file="points" mtrx="1 0 0 0 '
+                         '0 1 0 0 0 0 1 0 0 0 0 1 "/>\n</Content>')
+        archive.writestr("points", np.uint32(len(pts)).tobytes() + pts.tobytes())
+    result = Points.Points()
+    try:
+        result.restoreContent(buffer.getvalue())
+    except Exception:   # noqa: BLE001  (a FreeCAD that reads another form: the slow way)
+        pass
+    if result.CountPoints != len(pts):
+        result = Points.Points([App.Vector(*p) for p in pts.astype(float).tolist()])
+    return result
 
 
 def tessellated(shape, tolerance):
