@@ -50,6 +50,14 @@ core); --scheduler tcp://HOST:8786 sends them to a Dask distributed cluster inst
 workers need FreeCAD and this package). Exports go to OUT/exports/variant-NNNN_Object.ext
 (NNNN the table row)."""
 
+REACH = """\
+The inverse problem: a feature of the far part (a hole's centre and axis, or a planar
+face's centre and normal, picked as --feature FaceN of --base) must land at --target
+POINT:AXIS. The far part's motion is the least rotation taking the axis to the target
+axis, then the translation taking the centre there. A translation along the Plane's
+normal becomes a Stretch; a turn about one axis an exact Bend (which one is printed as
+"Method = ..."). A motion that is neither is refused. Vectors are written x,y,z."""
+
 SOLVE = """\
 Goal seek: find the property values within their bounds that make outputs hit targets
 (Brent's method for one property and one target, bounded least squares otherwise), or
@@ -60,7 +68,8 @@ solution as "Object.Property = value" lines; --out saves the solved document."""
 def parser():
     top = argparse.ArgumentParser(prog="python3 -m freecad_deform", description=HELP,
                                   formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = top.add_subparsers(dest="command", required=True, metavar="{run,sweep,solve}")
+    sub = top.add_subparsers(dest="command", required=True,
+                             metavar="{run,sweep,solve,reach}")
     fmt = argparse.RawDescriptionHelpFormatter
     r = sub.add_parser("run", help="recompute and export one model", description=RUN,
                        formatter_class=fmt)
@@ -86,6 +95,18 @@ def parser():
                    help="comma-separated: step, brep, stl, ply, fcstd")
     s.add_argument("--retry-failed", action="store_true",
                    help="on a rerun, run the failed variants again too")
+    h = sub.add_parser("reach", help="make a feature of the far part land at a target",
+                       description=REACH, formatter_class=fmt)
+    h.add_argument("doc", help="the .FCStd document")
+    h.add_argument("--base", required=True, help="the object to deform (Name or Label)")
+    h.add_argument("--plane", required=True, metavar="X,Y,Z:NX,NY,NZ",
+                   help="the split plane: a point on it and its normal, toward the far part")
+    h.add_argument("--feature", required=True, metavar="FaceN|X,Y,Z:AX,AY,AZ",
+                   help="a face of the base (a hole's cylinder, or a planar face), or a "
+                   "point and an axis")
+    h.add_argument("--target", required=True, metavar="X,Y,Z:AX,AY,AZ",
+                   help="where the feature's point must land, and its axis there")
+    h.add_argument("--out", help="save the document with the new feature here (.FCStd)")
     v = sub.add_parser("solve", help="goal seek: properties that make outputs hit targets",
                        description=SOLVE, formatter_class=fmt)
     v.add_argument("doc", help="the .FCStd document")
@@ -149,4 +170,35 @@ def _solve(args):
     return 0
 
 
-COMMANDS = {"run": _run, "sweep": _sweep, "solve": _solve}
+def _frame(text, option):
+    """"x,y,z:ax,ay,az" -> two 3-vectors."""
+    try:
+        point, axis = ([float(c) for c in part.split(",")] for part in text.split(":"))
+        if len(point) == 3 and len(axis) == 3:
+            return point, axis
+    except ValueError:
+        pass
+    from . import model
+    raise model.BatchError(f"{option} {text!r} needs x,y,z:ax,ay,az (a point and an axis).")
+
+
+def _reach(args):
+    import os
+    from . import model, reach
+    plane = _frame(args.plane, "--plane")
+    feature = args.feature if ":" not in args.feature else _frame(args.feature, "--feature")
+    target = _frame(args.target, "--target")
+    doc = model.open_document(args.doc)
+    try:
+        found = reach.reach(doc, args.base, plane, feature, target)
+        if args.out:
+            doc.saveAs(os.path.abspath(args.out))
+    finally:
+        model.App.closeDocument(doc.Name)
+    for key, value in found.items():
+        print(f"{key} = {value!r}")
+    print(f"Method = {found['method']}")
+    return 0
+
+
+COMMANDS = {"run": _run, "sweep": _sweep, "solve": _solve, "reach": _reach}

@@ -13,9 +13,16 @@ if not __package__:  # run as a file by freecadcmd, not imported
         os.path.realpath(__file__)))))
     from freecad_deform.batch.cli import main
 
-    argv = sys.argv[1:]
+    # FreeCAD 0.20 gives [script, "--", args], 1.1 also its own path: take what follows "--"
+    # (or else this script)
+    argv = sys.argv
+    if "--" in argv:
+        argv = argv[argv.index("--") + 1:]
+    else:
+        mine = [i for i, a in enumerate(argv) if a.endswith("freecadcmd.py")]
+        argv = argv[mine[0] + 1:] if mine else argv[1:]
     try:  # freecadcmd would print an uncaught error and exit with status 0
-        status = main(argv[1:] if argv[:1] == ["--"] else argv)
+        status = main(argv)
     except Exception:
         traceback.print_exc()
         status = 1

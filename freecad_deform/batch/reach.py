@@ -1,0 +1,116 @@
+"""`reach`, the inverse problem of Wu & Ilies: a feature of the far part (a point and an
+axis: a hole's centre and axis, a face's centre and normal) must end at a target point and
+axis. The far part's rigid motion is the least rotation taking the axis to the target axis,
+then the translation taking the point to the target point. A translation along the Plane's
+normal is made as a Stretch, a rotation about an axis (no slide along it) as an exact Bend.
+A motion that is neither (a screw, or a translation across the normal) is refused."""
+import numpy as np
+
+from . import model
+
+App = model.App
+
+
+def feature_frame(shape, element):
+    """(point, unit axis) of a face: a cylinder's (or cone's) axis and the point on it
+    nearest the face's centre of mass (a hole's centre); a plane's centre and normal."""
+    face = shape.getElement(element)
+    surface = face.Surface
+    com = np.array(tuple(face.CenterOfMass))
+    if hasattr(surface, "Axis") and hasattr(surface, "Center"):
+        axis = np.array(tuple(surface.Axis))
+        axis /= np.linalg.norm(axis)
+        origin = np.array(tuple(surface.Center))
+        return origin + ((com - origin) @ axis) * axis, axis
+    if surface.TypeId == "Part::GeomPlane":
+        u0, u1, v0, v1 = face.ParameterRange
+        normal = np.array(tuple(face.normalAt((u0 + u1) / 2, (v0 + v1) / 2)))
+        return com, normal / np.linalg.norm(normal)
+    raise model.BatchError(f"{element} is a {surface.TypeId.split('::')[-1]}; pick a hole "
+                           f"(a cylinder or cone) or a planar face as the feature.")
+
+
+def least_rotation(a, b, normal):
+    """The rotation matrix taking unit a to unit b about a x b (a half turn about the axis
+    across a nearest the Plane's normal when they are opposite)."""
+    u, c = np.cross(a, b), float(a @ b)
+    s = np.linalg.norm(u)
+    if s < 1e-15:
+        if c > 0:
+            return np.eye(3)
+        u = np.cross(np.cross(a, normal), a)
+        if np.linalg.norm(u) < 1e-12:
+            u = np.cross(a, [1.0, 0, 0] if abs(a[0]) < 0.9 else [0, 1.0, 0])
+        u, s, c = u / np.linalg.norm(u), 0.0, -1.0
+    else:
+        u = u / s
+    k = np.array([[0, -u[2], u[1]], [u[2], 0, -u[0]], [-u[1], u[0], 0]])
+    return np.eye(3) + s * k + (1 - c) * k @ k
+
+
+def motion_kind(p, a, q, b, origin, normal, tol):
+    """("Stretch", distance) or ("Bend", axis point, axis direction, degrees) for the rigid
+    motion taking the point p and axis a to q and b."""
+    rot = least_rotation(a, b, normal)
+    shift = q - p
+    angle = np.arccos(np.clip((np.trace(rot) - 1) / 2, -1, 1))
+    if angle < 1e-15:
+        across = shift - (shift @ normal) * normal
+        if np.linalg.norm(across) > tol:
+            raise model.BatchError(
+                f"the target is {np.linalg.norm(across):.6g} mm off the line along the "
+                f"Plane's normal through the feature, and a Stretch moves the far part "
+                f"along that normal; give a target on that line or turn the Plane.")
+        return "Stretch", float(shift @ normal)
+    w = np.array([rot[2, 1] - rot[1, 2], rot[0, 2] - rot[2, 0], rot[1, 0] - rot[0, 1]])
+    if np.linalg.norm(w) < 1e-12:  # a half turn: its axis from R + I
+        w = (rot + np.eye(3))[np.argmax(np.diag(rot))]
+    u = w / np.linalg.norm(w)
+    slide = float(shift @ u)
+    if abs(slide) > tol:
+        raise model.BatchError(
+            f"the target needs a screw motion (a turn of {np.degrees(angle):.6g} deg and a "
+            f"slide of {slide:.6g} mm along its axis), which neither a Stretch nor a Bend "
+            f"makes; give a target the feature reaches by turning about one axis.")
+    # the axis: points c with (I - R)(c - p) = q - p, the one nearest the Plane's origin
+    c0 = p + np.linalg.lstsq(np.eye(3) - rot, shift, rcond=None)[0]
+    c0 = c0 - ((c0 - p) @ u) * u
+    centre = c0 + ((origin - c0) @ u) * u
+    return "Bend", centre, u, float(np.degrees(angle))
+
+
+def reach(doc, base, plane, feature, target, tol=1e-9):
+    """Make the Stretch or Bend of `base` at `plane` ((origin, normal)) that takes
+    `feature` ("FaceN" of the base, or (point, axis)) to `target` ((point, axis)). Returns
+    {"method", "object", "distance" or "axis"/"angle"}; the document is recomputed."""
+    import freecad_deform as fd
+    obj = model.find_object(doc, base) if isinstance(base, str) else base
+    origin, normal = (np.asarray(v, float) for v in plane)
+    normal = normal / np.linalg.norm(normal)
+    if isinstance(feature, str):
+        p, a = feature_frame(obj.Shape, feature)
+    else:
+        p, a = (np.asarray(v, float) for v in feature)
+    q, b = (np.asarray(v, float) for v in target)
+    a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
+    if (p - origin) @ normal <= 0:
+        raise model.BatchError("the feature is not beyond the Plane (on the side its normal "
+                               "points to), so it does not move; pick a feature of the far "
+                               "part or flip the Plane.")
+    scale = max(np.linalg.norm(p - origin), np.linalg.norm(q - origin), 1.0)
+    kind = motion_kind(p, a, q, b, origin, normal, tol * scale)
+    vec = lambda v: App.Vector(*map(float, v))  # noqa: E731
+    if kind[0] == "Stretch":
+        made = fd.make_stretch(obj, (vec(origin), vec(normal)), kind[1])
+        info = {"distance": kind[1]}
+    else:
+        _, centre, u, degrees = kind
+        made = fd.make_bend(obj, (vec(origin), vec(normal)), degrees, (vec(centre), vec(u)))
+        info = {"axis": (tuple(centre), tuple(u)), "angle": degrees}
+    valid, error = model.status(doc)
+    if error:  # leave the document as it was
+        doc.removeObject(made.Name)
+        obj.Visibility = True
+        doc.recompute()
+        raise model.BatchError(f"the {kind[0]} that reaches the target fails: {error}")
+    return {"method": kind[0], "object": made.Name, **info}
