@@ -26,4 +26,6 @@ if not __package__:  # run as a file by freecadcmd, not imported
     except Exception:
         traceback.print_exc()
         status = 1
+    sys.stdout.flush()  # FreeCAD 1.1 exits without flushing Python's buffers
+    sys.stderr.flush()
     sys.exit(status)
