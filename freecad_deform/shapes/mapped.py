@@ -173,8 +173,9 @@ def sewn_solid(faces, joints, deviation, prop, slack=0.0):
 
 def _sewn_wide(faces, tol):
     """The faces sewn at `tol` (copies, their tolerances raised to it): FreeCAD 1.0 and
-    later pass `tol` to OCCT's sewing; 0.20 does not, but its Part.Shell sews an invalid
-    shell at the mean tolerance of its parts, which is then `tol`."""
+    later pass `tol` to OCCT's sewing; 0.20 does not, but its Part.makeShell sews an
+    invalid shell at the mean tolerance of its parts, which is then `tol` (voids come back
+    as more shells in a compound)."""
     compound = Part.makeCompound(faces).copy()
     compound.limitTolerance(tol)  # raised to tol, larger ones kept (a file's own 0.01 mm)
     sewn = compound.copy()
@@ -182,10 +183,10 @@ def _sewn_wide(faces, tol):
     if not _with_free_edges(sewn.Faces):
         return sewn
     try:
-        shell = Part.Shell(compound.Faces)
-    except Part.OCCError:  # the sewing gave more than one shell
+        shells = Part.makeShell(compound.Faces)
+    except Part.OCCError:
         return sewn
-    return shell if not _with_free_edges(shell.Faces) else sewn
+    return shells if not _with_free_edges(shells.Faces) else sewn
 
 
 def _tightened(solid, tol):

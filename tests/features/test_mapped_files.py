@@ -102,6 +102,16 @@ class MappedFileFaces(unittest.TestCase):
         self.assertGreater(min(e.Tolerance for e in face.Edges), 1e-4)
         self.check(solid)
 
+    def test_void_kept(self):
+        """The wide sewing of a solid with a cavity gives its two shells."""
+        solid, _ = waisted(offset_surface)
+        cavity = Part.makeBox(4, 4, 2, V(-2, -2, 1)).Shells[0].reversed()
+        solid = Part.makeSolid(Part.makeCompound([solid.Shells[0], cavity]))
+        self.assertTrue(solid.isValid())
+        self.assertEqual(len(solid.Shells), 2)
+        self.check(solid)
+        self.assertEqual(len(self.twisted(solid).Solids[0].Shells), 2)
+
     def test_face_short_of_its_surface_rectangle(self):
         """Rebuilt on its own edges, not as the fitted surface's whole rectangle (which reached
         5e-3 past its neighbour: refused before)."""
