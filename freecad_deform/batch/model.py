@@ -25,10 +25,18 @@ def split_path(path):
 
 
 def open_document(path):
-    """App.openDocument, with a missing file named as such."""
+    """App.openDocument, refusing a missing file and a document whose Python objects did
+    not load (they would not recompute, and stale results would pass for new ones)."""
     if not os.path.isfile(path):
         raise BatchError(f"{path} does not exist; give the path of a .FCStd document.")
-    return App.openDocument(os.path.abspath(path))
+    doc = App.openDocument(os.path.abspath(path))
+    dead = [o.Name for o in doc.Objects if hasattr(o, "Proxy") and o.Proxy is None]
+    if dead:
+        App.closeDocument(doc.Name)
+        raise BatchError(f"the Python code of {', '.join(dead)} did not load (its add-on "
+                         f"is not importable here); install the add-on or put it on "
+                         f"PYTHONPATH.")
+    return doc
 
 
 def find_object(doc, name):

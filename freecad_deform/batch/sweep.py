@@ -104,6 +104,15 @@ class Progress:
         self.stream.flush()
 
 
+def worker_python():
+    """The Python the workers run: this one, or inside freecadcmd the Python FreeCAD is
+    built on (the one in its prefix; another python3 on PATH may not restore its objects)."""
+    if os.path.basename(sys.executable or "").startswith("python"):
+        return sys.executable
+    own = os.path.join(sys.base_exec_prefix, "bin", "python%d.%d" % sys.version_info[:2])
+    return own if os.path.isfile(own) else shutil.which("python3")
+
+
 def _executor(jobs, scheduler):
     """Where the variants run: a Dask cluster, local worker processes (spawned: each one
     its own FreeCAD), or this process when jobs is 1. Yields results as they finish."""
@@ -128,10 +137,7 @@ def _executor(jobs, scheduler):
         import concurrent.futures as cf
         import multiprocessing
         ctx = multiprocessing.get_context("spawn")
-        python = sys.executable
-        if not os.path.basename(python or "").startswith("python"):  # inside freecadcmd
-            python = shutil.which("python3")
-        ctx.set_executable(python)
+        ctx.set_executable(worker_python())
         with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
             for future in cf.as_completed([pool.submit(run_variant, t) for t in tasks]):
                 yield future.result()

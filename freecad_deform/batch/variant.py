@@ -21,7 +21,11 @@ def run_variant(task):
         path = os.path.join(tmp, "model.FCStd")
         with open(path, "wb") as f:
             f.write(task["doc"])
-        doc = App.openDocument(path)
+        try:
+            doc = model.open_document(path)
+        except model.BatchError as e:
+            out["error"] = str(e)
+            return out
         try:
             _compute(doc, task, out, tmp)
         finally:

@@ -26,6 +26,18 @@ def cli(*args, cwd=REPO, check=True, prefix=(sys.executable, "-m", "freecad_defo
     return done
 
 
+def mod_home(folder):
+    """A HOME whose FreeCAD Mod folders hold this add-on (freecadcmd restores only
+    installed add-ons' objects)."""
+    for mod in (".local/share/FreeCAD/Mod", ".FreeCAD/Mod"):
+        (folder / mod).mkdir(parents=True)
+        (folder / mod / "freecad_deform").symlink_to(REPO)
+    return folder
+
+
+FREECADCMD = ("freecadcmd", f"{REPO}/freecad_deform/batch/freecadcmd.py", "--")
+
+
 def section_area(shape, x):
     """Area of the shape's section by the plane at x (normal +X): OCCT's slice wires made
     into a face (holes included) by FreeCAD's bullseye face maker."""

@@ -6,7 +6,9 @@ import json
 import Mesh
 import Part
 
-from .conftest import CUT_X, PART, REPO, cli, section_area, model_path
+from tests.features.fc import App
+
+from .conftest import CUT_X, FREECADCMD, PART, cli, mod_home, model_path, section_area
 
 
 def _table(path):
@@ -51,19 +53,43 @@ def test_run_recipe_on_step_file(tmp_path):
 def test_run_document_through_freecadcmd(part_doc, tmp_path):
     """The same command inside FreeCAD's console (the add-on in Mod/), after `--`: the
     table of the saved document (Distance 40 mm) with VolumeChange = A x 40."""
-    home = tmp_path / "home"  # the add-on installed in the user's Mod folder
-    for mod in (".local/share/FreeCAD/Mod", ".FreeCAD/Mod"):
-        (home / mod).mkdir(parents=True)
-        (home / mod / "freecad_deform").symlink_to(REPO)
-    done = cli("--", "run", part_doc["path"], "--out", tmp_path, "--export", "brep",
-               prefix=("freecadcmd", f"{REPO}/freecad_deform/batch/freecadcmd.py"),
-               home=home)
+    done = cli("run", part_doc["path"], "--out", tmp_path, "--export", "brep",
+               prefix=FREECADCMD, home=mod_home(tmp_path / "home"))
     assert "Stretch.VolumeChange" in done.stdout
     table = _table(tmp_path / "results.csv")
     expected = part_doc["A"] * 40
     assert abs(float(table[("Stretch", "VolumeChange")]) - expected) < 1e-6 * expected
     brep = Part.read(str(tmp_path / "part_Stretch.brep"))
     assert brep.isValid() and abs(brep.Volume - part_doc["V0"] - expected) < 1e-6 * brep.Volume
+
+
+def test_objects_that_did_not_load_are_refused(tmp_path):
+    """A document whose Python object comes from a module the command cannot import: the
+    object would not recompute, so the run is refused (exit status 2) instead of reporting
+    its stored results as new ones."""
+    import sys
+    (tmp_path / "ghost_proxy.py").write_text(
+        "class Ghost:\n"
+        "    def __init__(self, obj):\n"
+        "        obj.Proxy = self\n"
+        "    def execute(self, obj):\n"
+        "        pass\n"
+        "    def dumps(self):\n"
+        "        return None\n"
+        "    def loads(self, state):\n"
+        "        return None\n")
+    sys.path.insert(0, str(tmp_path))
+    try:
+        import ghost_proxy
+        doc = App.newDocument("Ghost")
+        ghost_proxy.Ghost(doc.addObject("Part::FeaturePython", "Ghost"))
+        doc.saveAs(str(tmp_path / "ghost.FCStd"))
+        App.closeDocument(doc.Name)
+    finally:
+        sys.path.remove(str(tmp_path))
+    done = cli("run", tmp_path / "ghost.FCStd", "--out", tmp_path / "out", check=False)
+    assert done.returncode == 2 and "Ghost did not load" in done.stderr
+    assert not (tmp_path / "out" / "results.csv").exists()
 
 
 def test_run_failing_document(tmp_path):

@@ -7,7 +7,7 @@ import os
 import Part
 import pytest
 
-from .conftest import cli
+from .conftest import FREECADCMD, cli, mod_home
 
 DISTANCES = ["10", "-500", "25.5", "3 cm"]  # -500 shrinks past the end: fails
 MM = [10.0, None, 25.5, 30.0]
@@ -92,6 +92,14 @@ def test_two_local_workers_same_table(part_doc, serial, tmp_path):
     (every cell but the measured seconds)."""
     cli("sweep", part_doc["path"], "--table", _write_table(tmp_path), "--out",
         tmp_path / "out", "--jobs", 2)
+    assert _without_seconds(_rows(tmp_path / "out")) == _without_seconds(_rows(serial[0]))
+
+
+def test_two_workers_under_freecadcmd_same_table(part_doc, serial, tmp_path):
+    """The sweep started inside FreeCAD's console: its workers are Python processes (the
+    Python FreeCAD is built on), the table the serial one bit for bit (but the seconds)."""
+    cli("sweep", part_doc["path"], "--table", _write_table(tmp_path), "--out",
+        tmp_path / "out", "--jobs", 2, prefix=FREECADCMD, home=mod_home(tmp_path / "home"))
     assert _without_seconds(_rows(tmp_path / "out")) == _without_seconds(_rows(serial[0]))
 
 
