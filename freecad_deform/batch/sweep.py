@@ -104,6 +104,11 @@ class Progress:
         self.stream.flush()
 
 
+def _crashed(index):
+    return {"index": index, "cells": {}, "valid": False, "seconds": 0.0, "files": {},
+            "error": "FreeCAD crashed on this variant (its worker process died)."}
+
+
 def worker_python():
     """The Python the workers run: this one, or inside freecadcmd the Python FreeCAD is
     built on (the one in its prefix; another python3 on PATH may not restore its objects)."""
@@ -118,7 +123,7 @@ def _executor(jobs, scheduler):
     its own FreeCAD), or this process when jobs is 1. Yields results as they finish."""
     if scheduler:
         try:
-            from distributed import Client, as_completed
+            from distributed import Client, KilledWorker, as_completed
         except ImportError:
             raise model.BatchError("--scheduler needs Dask's distributed package (Debian: "
                                    "python3-distributed); install it or leave --scheduler "
@@ -127,8 +132,12 @@ def _executor(jobs, scheduler):
         def run(tasks):
             with Client(scheduler) as client:
                 futures = [client.submit(run_variant, t, pure=False) for t in tasks]
+                index = {f.key: t["index"] for f, t in zip(futures, tasks)}
                 for future in as_completed(futures):
-                    yield future.result()
+                    try:
+                        yield future.result()
+                    except KilledWorker:  # the variant killed every worker it was given
+                        yield _crashed(index[future.key])
         return run
     if jobs == 1:
         return lambda tasks: map(run_variant, tasks)
@@ -138,9 +147,22 @@ def _executor(jobs, scheduler):
         import multiprocessing
         ctx = multiprocessing.get_context("spawn")
         ctx.set_executable(worker_python())
+        left = []
         with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-            for future in cf.as_completed([pool.submit(run_variant, t) for t in tasks]):
-                yield future.result()
+            futures = {pool.submit(run_variant, t): t for t in tasks}
+            for future in cf.as_completed(futures):
+                try:
+                    yield future.result()
+                except cf.process.BrokenProcessPool:  # a worker died: FreeCAD crashed
+                    left.append(futures[future])
+        # after a crash, each variant left runs in a process of its own, so the one that
+        # crashes is found and the others still run
+        for task in sorted(left, key=lambda t: t["index"]):
+            with cf.ProcessPoolExecutor(max_workers=1, mp_context=ctx) as alone:
+                try:
+                    yield alone.submit(run_variant, task).result()
+                except cf.process.BrokenProcessPool:
+                    yield _crashed(task["index"])
     return run
 
 

@@ -26,12 +26,12 @@ def cli(*args, cwd=REPO, check=True, prefix=(sys.executable, "-m", "freecad_defo
     return done
 
 
-def mod_home(folder):
-    """A HOME whose FreeCAD Mod folders hold this add-on (freecadcmd restores only
-    installed add-ons' objects)."""
-    for mod in (".local/share/FreeCAD/Mod", ".FreeCAD/Mod"):
-        (folder / mod).mkdir(parents=True)
-        (folder / mod / "freecad_deform").symlink_to(REPO)
+def mod_home(folder, addon="freecad_deform", source=REPO):
+    """A HOME whose FreeCAD Mod folders (0.20, 1.0, 1.1) hold an add-on: FreeCAD restores
+    the Python objects of installed add-ons only."""
+    for mod in (".local/share/FreeCAD/Mod", ".local/share/FreeCAD/v1-1/Mod", ".FreeCAD/Mod"):
+        (folder / mod).mkdir(parents=True, exist_ok=True)
+        (folder / mod / addon).symlink_to(source)
     return folder
 
 

@@ -128,3 +128,55 @@ def test_unknown_column_is_refused(part_doc, tmp_path):
     done = cli("sweep", part_doc["path"], "--table", tmp_path / "t.csv", "--out", tmp_path,
                check=False)
     assert done.returncode == 2 and "Distanse" in done.stderr
+
+
+CRASH = """import os
+
+
+class Crash:
+    '''A document object that kills its FreeCAD when Mode is 2.'''
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        obj.addProperty("App::PropertyInteger", "Mode", "Crash", "")
+        obj.addProperty("App::PropertyFloat", "Value", "Crash", "", 1 | 8)
+
+    def execute(self, obj):
+        if obj.Mode == 2:
+            os._exit(3)
+        obj.Value = obj.Mode * 1.5
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+"""
+
+
+def test_a_crashing_variant_does_not_stop_the_sweep(tmp_path):
+    """Variant 2 kills its worker process (as a FreeCAD crash would): it is recorded as a
+    crash, and the others still run, each result right."""
+    import sys
+    from .conftest import App
+    addon = tmp_path / "CrashAddon"  # installed in a Mod folder, as FreeCAD requires
+    addon.mkdir()
+    (addon / "crash_proxy.py").write_text(CRASH)
+    sys.path.insert(0, str(addon))
+    try:
+        import crash_proxy
+        doc = App.newDocument("Crash")
+        crash_proxy.Crash(doc.addObject("App::FeaturePython", "Crash"))
+        doc.saveAs(str(tmp_path / "crash.FCStd"))
+        App.closeDocument(doc.Name)
+    finally:
+        sys.path.remove(str(addon))
+    (tmp_path / "t.csv").write_text("Crash.Mode\n1\n2\n3\n4\n")
+    cli("sweep", tmp_path / "crash.FCStd", "--table", tmp_path / "t.csv", "--out",
+        tmp_path / "out", "--jobs", 2,
+        home=mod_home(tmp_path / "home", "CrashAddon", addon))
+    rows = _rows(tmp_path / "out")
+    assert rows[0] == ["Crash.Mode", "Crash.Value", "valid", "seconds", "error"]
+    assert [r[1] for r in rows[1:]] == ["1.5", "", "4.5", "6.0"]
+    assert [r[2] for r in rows[1:]] == ["True", "False", "True", "True"]
+    assert "crashed" in rows[2][4]
