@@ -163,8 +163,9 @@ def _solve(args):
             doc.saveAs(os.path.abspath(args.out))
     finally:
         model.App.closeDocument(doc.Name)
-    print(f"iterations = {found['iterations']}")
-    print(f"residual = {found['residual']!r}")
+    for key in ("iterations", "residual", "minimum", "maximum"):
+        if key in found:
+            print(f"{key} = {found[key]!r}")
     for name in vary:
         print(f"{name} = {found[name]!r}")
     return 0

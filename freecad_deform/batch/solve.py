@@ -54,7 +54,7 @@ def solve(doc, vary, target=None, minimize=None, maximize=None, xtol=1e-12, max_
     {"Object.Output": value} (an output may be any attribute path, such as
     "Stretch.Shape.BoundBox.XLength"), or minimize / maximize: "Object.Output".
     Returns {name: value, ..., "residual": r, "iterations": n}: r the largest |output -
-    target| (or the optimum's value), n the recomputes. The document is left recomputed at
+    target| ("minimum" or "maximum" instead: the output there), n the recomputes. The document is left recomputed at
     the solution."""
     names, lo, hi = _bounds(vary)
     goal = minimize or maximize
@@ -69,9 +69,12 @@ def solve(doc, vary, target=None, minimize=None, maximize=None, xtol=1e-12, max_
         sign = 1.0 if minimize else -1.0
         x = _optimum(lambda v: sign * f(v)[0], lo, hi, xtol, max_calls)
     value = f(x)
-    residual = float(np.max(np.abs(value - want))) if target else float(value[0])
-    return {**{n: float(v) for n, v in zip(names, np.atleast_1d(x))},
-            "residual": residual, "iterations": f.calls}
+    found = {n: float(v) for n, v in zip(names, np.atleast_1d(x))}
+    if target:
+        found["residual"] = float(np.max(np.abs(value - want)))
+    else:
+        found["minimum" if minimize else "maximum"] = float(value[0])
+    return {**found, "iterations": f.calls}
 
 
 def _seek(g, lo, hi, xtol, max_calls):
@@ -95,7 +98,8 @@ def _optimum(h, lo, hi, xtol, max_calls):
                                         method="bounded",
                                         options={"xatol": max(xtol, 1e-10 * (hi[0] - lo[0])),
                                                  "maxiter": max_calls})
-        return np.array([best.x])
+        # a bounded search only nears a bound: the bounds themselves are candidates too
+        return min((np.array([t]) for t in (best.x, lo[0], hi[0])), key=h)
     best = optimize.minimize(h, (lo + hi) / 2, method="L-BFGS-B", bounds=list(zip(lo, hi)),
                              options={"maxfun": max_calls})
     return best.x

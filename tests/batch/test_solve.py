@@ -73,3 +73,13 @@ def test_bounds_where_the_model_fails_are_named(part_doc):
                      target={"Stretch.VolumeChange": 1.0})
     finally:
         App.closeDocument(doc.Name)
+
+
+def test_maximize_at_a_bound(part_doc):
+    """--maximize the part's length over Distance in [-50, 50]: the bound 50 exactly,
+    length 315 + 50 (the optimum of a bounded search checked against its bounds)."""
+    done = cli("solve", part_doc["path"], "--vary", "Stretch.Distance=-50:50", "--maximize",
+               "Stretch.Shape.BoundBox.XLength")
+    lines = dict(line.split(" = ") for line in done.stdout.strip().splitlines())
+    assert float(lines["Stretch.Distance"]) == 50.0
+    assert abs(float(lines["maximum"]) - 365.0) < 1e-9
