@@ -12,8 +12,10 @@ import FreeCAD as App
 import numpy as np
 
 from ..geometry import dimension_drive as dd
+from ..geometry import volume_drive as vd
 from ..geometry.errors import DeformError
 from ..shapes.convert import mesh_arrays, moved_mesh, tessellated
+from ..shapes.fem import fem_arrays, fem_with_nodes, is_fem_mesh
 from .base import DeformFeature, Prop
 
 DEFAULT_FEATURE_ANGLE = 40.0   # degrees; FreeCAD tessellates cylinders at <= 28.6 degrees
@@ -92,7 +94,12 @@ class DimensionDrive(DeformFeature):
     def model(self, obj):
         """The DimensionModel of the Base, reused while the Base and handle settings hold."""
         V, T, mesh = self.base_mesh(obj)
-        key = hashlib.blake2b(V.tobytes() + T.tobytes() + np.array(
+        return self.cached_model(obj, V.tobytes() + T.tobytes(), dd.DimensionModel, V, T), mesh
+
+    def cached_model(self, obj, data, model_class, *arrays):
+        """model_class(*arrays, feature angle, handle tolerance, progress), built once for
+        `data` (the Base's arrays as bytes) and the handle settings."""
+        key = hashlib.blake2b(data + np.array(
             [obj.FeatureAngle.Value, obj.HandleTolerance.Value]).tobytes()).hexdigest()
         cached = getattr(self, "_cache", None)
         if cached is None or cached[0] != key:
@@ -101,43 +108,118 @@ class DimensionDrive(DeformFeature):
                 raise DeformError("FeatureAngle must be between 0 and 180 degrees.",
                                   "FeatureAngle")
             bar = App.Base.ProgressIndicator()
-            bar.start(f"{obj.Label}: building the deformation handle", dd.DimensionModel.STEPS)
+            bar.start(f"{obj.Label}: building the deformation handle", model_class.STEPS)
             try:
-                model = dd.DimensionModel(V, T, np.radians(angle),
-                                          obj.HandleTolerance.Value or None, bar.next)
+                model = model_class(*arrays, np.radians(angle),
+                                    obj.HandleTolerance.Value or None, bar.next)
             finally:
                 bar.stop()
             self._cache = cached = (key, model)
-        return cached[1], mesh
+        return cached[1]
 
     def execute(self, obj):
         model, mesh = self.model(obj)
+        surface = getattr(model, "surface", model)
         if getattr(self, "_coloured", None) is not model:
-            obj.RegionCount = model.count
-            obj.RegionColors = region_colours(model.labels)
+            obj.RegionCount = surface.count
+            obj.RegionColors = region_colours(surface.labels)
             self._coloured = model
         if len(obj.Regions) == 0:
-            if obj.Mesh.CountFacets == 0:
-                obj.Mesh = mesh.copy()   # nothing to keep yet: show the Base to pick on
+            self.show_base(obj, mesh)
             raise DeformError("Regions is empty; pick the regions of the dimension.", "Regions")
         picks = [tuple(p) for p in obj.Regions]
         target = obj.Target.Value
         if obj.Kind == "Position":
             target = (target, obj.TargetV.Value)
-        drive = dd.drive(model, obj.Kind, picks, target, tuple(obj.Origin), tuple(obj.AxisPoint))
+        drive = self.drive(model, obj.Kind, picks, target, tuple(obj.Origin),
+                           tuple(obj.AxisPoint))
         self._report(obj, "Current", drive.current)
         lo, hi = drive.reach
         obj.Reachable = ([drive.current[0] + lo, drive.current[0] + hi]
                          if len(drive.current) == 1 else [lo, hi])
-        vertices = dd.deformed(model, drive)
+        vertices = self.deformed(model, drive)
         if drive.strained:
             App.Console.PrintWarning(
                 f"{obj.Label}: {drive.strained} corner(s) of the moving plane meet faces that "
                 "cannot all stay planes or cylinders; they were kept as nearly as possible.\n")
-        obj.Mesh = moved_mesh(mesh, vertices)
+        self.store(obj, model, mesh, vertices)
         self._report(obj, "Achieved", drive.measure(vertices))
+
+    @staticmethod
+    def drive(model, kind, picks, target, origin, axis_point):
+        return dd.drive(model, kind, picks, target, origin, axis_point)
+
+    @staticmethod
+    def deformed(model, drive):
+        return dd.deformed(model, drive)
+
+    @staticmethod
+    def show_base(obj, mesh):
+        if obj.Mesh.CountFacets == 0:
+            obj.Mesh = mesh.copy()   # nothing to keep yet: show the Base to pick on
+
+    @staticmethod
+    def store(obj, model, mesh, vertices):
+        obj.Mesh = moved_mesh(mesh, vertices)
 
     @staticmethod
     def _report(obj, name, value):
         setattr(obj, name, float(value[0]))
         setattr(obj, name + "V", float(value[1]) if len(value) > 1 else 0.0)
+
+
+class DimensionDriveFem(DimensionDrive):
+    """DimensionDrive on a FEM mesh of linear or quadratic tetrahedra: the boundary drives
+    the handle, the interior nodes follow by a harmonic extension (geometry.volume_drive);
+    the result is a FEM mesh with the same nodes, elements, numbers and groups."""
+
+    RESULT = "Fem::FemMeshObjectPython"
+    PROPERTIES = DimensionDrive.PROPERTIES + (
+        Prop("App::PropertyFloat", "QualityBefore", "Result",
+             "The worst element quality of the Base: scaled Jacobian (1 regular, 0 flat), of "
+             "the linear sub-tetrahedra of quadratic elements.", output=True),
+        Prop("App::PropertyFloat", "QualityAfter", "Result",
+             "The worst element quality of the result (scaled Jacobian, as QualityBefore).",
+             output=True),
+    )
+
+    @staticmethod
+    def check_base(base):
+        if not is_fem_mesh(base):
+            raise DeformError(f"Base {base.Label} is not a FEM mesh; link one.", "Base")
+
+    def model(self, obj):
+        base = obj.Base
+        if not is_fem_mesh(base):
+            raise DeformError("Base must be a FEM mesh (the object was made for one); link "
+                              "one.", "Base")
+        femmesh = base.FemMesh
+        ids, nodes, _, elements = fem_arrays(femmesh)
+        model = self.cached_model(obj, ids.tobytes() + nodes.tobytes() + elements.tobytes(),
+                                  vd.VolumeModel, nodes, elements)
+        obj.QualityBefore = model.quality()
+        return model, (femmesh, ids)
+
+    @staticmethod
+    def drive(model, kind, picks, target, origin, axis_point):
+        return model.drive(kind, picks, target, origin, axis_point)
+
+    @staticmethod
+    def deformed(model, drive):
+        return model.deformed(drive)
+
+    @staticmethod
+    def show_base(obj, mesh):
+        if obj.FemMesh.NodeCount == 0:
+            obj.FemMesh = mesh[0].copy()
+
+    @staticmethod
+    def store(obj, model, mesh, vertices):
+        femmesh, ids = mesh
+        obj.FemMesh = fem_with_nodes(femmesh, ids, vertices)
+        obj.QualityAfter = model.quality(vertices)
+
+
+def proxy_for(base):
+    """The DimensionDrive proxy class for `base`: DimensionDriveFem for a FEM mesh."""
+    return DimensionDriveFem if is_fem_mesh(base) else DimensionDrive

@@ -1,0 +1,313 @@
+"""DimensionDrive on FEM meshes of tetrahedra (issue 17): the sfepy wheelset (.vtk, metres)
+and FreeCAD's CalculiX rotor (.inp, mm), linear and quadratic.
+
+Oracles written here: a cylinder and planes fitted by the test to the nodes it selects
+by coordinates, signed volumes of every tetrahedron (its quadratic elements split by the
+test), node and element numbers and connectivity read off both FEM meshes, groups, and
+FreeCAD's CalculiX input writer with the written file read back by FreeCAD's .inp reader.
+"""
+import os
+import sys
+import tempfile
+import unittest
+
+from . import fc
+
+import FreeCAD as App  # noqa: E402
+import numpy as np  # noqa: E402
+from scipy.optimize import least_squares  # noqa: E402
+
+FEM_MOD = "/usr/share/freecad/Mod/Fem"
+if os.path.isdir(FEM_MOD) and FEM_MOD not in sys.path:
+    sys.path.append(FEM_MOD)
+import Fem  # noqa: E402
+import ObjectsFem  # noqa: E402
+from feminout import importInpMesh  # noqa: E402
+
+import freecad_deform as fd  # noqa: E402
+
+MIDS = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))   # SMDS order of mid-edge nodes
+
+
+def nodes_of(femmesh):
+    points = femmesh.Nodes                   # a new dict at every access: read it once
+    ids = np.array(sorted(points))
+    return ids, np.array([tuple(points[i]) for i in ids.tolist()])
+
+
+def elements_of(femmesh):
+    return {v: tuple(femmesh.getElementNodes(v)) for v in femmesh.Volumes}
+
+
+def tet_volumes(femmesh):
+    """Signed volumes of the corner tetrahedra, and for quadratic elements of the 8 parts
+    the test cuts each into (corner tets, octahedron along mid(01)-mid(23))."""
+    ids, X = nodes_of(femmesh)
+    conn = np.searchsorted(ids, np.array(list(elements_of(femmesh).values())))
+    if conn.shape[1] == 10:
+        parts = [[0, 4, 6, 7], [4, 1, 5, 8], [6, 5, 2, 9], [7, 8, 9, 3],
+                 [4, 5, 6, 9], [4, 6, 7, 9], [4, 7, 8, 9], [4, 8, 5, 9]]
+        conn = conn[:, parts].reshape(-1, 4)
+    p = X[conn]
+    return np.einsum("ij,ij->i", p[:, 1] - p[:, 0],
+                     np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6
+
+
+def fit_cylinder(points):
+    """The test's cylinder: axis (point, unit direction), radius and largest deviation,
+    least squares started from the points' principal directions (a long cylinder's axis
+    is the largest, a short wide one's the smallest; the better fit is kept)."""
+    c = points.mean(axis=0)
+
+    def residual(q):
+        axis = q[3:6] / np.linalg.norm(q[3:6])
+        r = points - q[:3]
+        return np.linalg.norm(r - np.outer(r @ axis, axis), axis=1) - q[6]
+    best = None
+    for d in np.linalg.svd(points - c)[2][[0, 2]]:
+        r0 = np.linalg.norm((points - c) - np.outer((points - c) @ d, d), axis=1).mean()
+        q = least_squares(residual, np.concatenate([c, d, [r0]]), xtol=1e-15, ftol=1e-15,
+                          gtol=1e-15).x
+        if best is None or np.abs(residual(q)).max() < np.abs(residual(best)).max():
+            best = q
+    return best[:3], best[3:6] / np.linalg.norm(best[3:6]), abs(best[6]), \
+        np.abs(residual(best)).max()
+
+
+def radial(points, point, axis):
+    r = points - point
+    return np.linalg.norm(r - np.outer(r @ axis, axis), axis=1)
+
+
+def quadratic(femmesh, radii=()):
+    """A 10-node tetrahedral copy of a linear mesh (new node numbers after the largest,
+    element numbers and order kept), its mid-edge nodes as a second-order mesher places
+    them: on the boundary edges of the coaxial z cylinders of `radii`, on the circle through
+    the edge's ends; elsewhere at the edge's midpoint."""
+    out = Fem.FemMesh()
+    ids, X = nodes_of(femmesh)
+    for i, p in zip(ids.tolist(), X.tolist()):
+        out.addNode(*p, i)
+    position = dict(zip(ids.tolist(), X))
+    conn = np.array(list(elements_of(femmesh).values()))
+    faces = np.sort(conn[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]].reshape(-1, 3), 1)
+    uniq, count = np.unique(faces, axis=0, return_counts=True)
+    outer = {tuple(sorted(e)) for f in uniq[count == 1].tolist()
+             for e in ((f[0], f[1]), (f[1], f[2]), (f[0], f[2]))}
+    mid, nxt = {}, int(ids.max()) + 1
+    for v, corners in elements_of(femmesh).items():
+        extra = []
+        for a, b in MIDS:
+            key = tuple(sorted((corners[a], corners[b])))
+            if key not in mid:
+                p = (position[key[0]] + position[key[1]]) / 2
+                ra, rb = (np.hypot(*position[k][:2]) for k in key)
+                if key in outer and any(abs(ra - r) < 1e-9 * r and abs(rb - r) < 1e-9 * r
+                                        for r in radii):
+                    p[:2] *= ra / np.hypot(*p[:2])
+                out.addNode(*p.tolist(), nxt)
+                mid[key], nxt = nxt, nxt + 1
+            extra.append(mid[key])
+        out.addVolume(list(corners) + extra, v)
+    return out
+
+
+class FemDriveCase(unittest.TestCase):
+    def setUp(self):
+        self.doc = fc.new_document("DimensionDriveFem")
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def base(self, femmesh, name):
+        obj = self.doc.addObject("Fem::FemMeshObject", name)
+        obj.FemMesh = femmesh
+        self.doc.recompute()
+        return obj
+
+    def wheelset(self):
+        return self.base(Fem.read(fc.testdata("sfepy_wheelset.vtk")), "Wheelset")
+
+    def rotor(self, order=1):
+        mesh = importInpMesh.read(fc.testdata("fcfem_constraint_centrif.inp"))
+        return self.base(mesh if order == 1 else quadratic(mesh, (97.5, 102.5)), "Rotor")
+
+    def check_same_mesh(self, base, obj):
+        """Same node numbers, elements, connectivity and groups; nothing inverted."""
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        self.assertEqual(obj.TypeId, "Fem::FemMeshObjectPython")
+        a, b = base.FemMesh, obj.FemMesh
+        self.assertEqual((a.NodeCount, a.VolumeCount), (b.NodeCount, b.VolumeCount))
+        np.testing.assert_array_equal(nodes_of(a)[0], nodes_of(b)[0])
+        self.assertEqual(elements_of(a), elements_of(b))
+        groups = [(a.getGroupName(g), a.getGroupElementType(g), a.getGroupElements(g))
+                  for g in a.Groups]
+        self.assertEqual(groups, [(b.getGroupName(g), b.getGroupElementType(g),
+                                   b.getGroupElements(g)) for g in b.Groups])
+        before, after = tet_volumes(a), tet_volumes(b)
+        self.assertEqual(int(np.count_nonzero(np.sign(before) != np.sign(after))), 0)
+        self.assertGreater(obj.QualityAfter, 0)
+        self.assertGreater(obj.QualityBefore, 0)
+
+    def check_cylinder(self, base, obj, select, target):
+        """Every node the test finds on the picked cylinder ends on the cylinder it fits to
+        them afterwards, whose radius is the target (1e-6 of the mesh size)."""
+        ids, X = nodes_of(base.FemMesh)
+        size = np.linalg.norm(np.ptp(X, axis=0))
+        on = select(X)
+        point, axis, r0, dev0 = fit_cylinder(X[on])
+        on &= np.abs(radial(X, point, axis) - r0) < 1e-9 * size
+        self.assertGreater(on.sum(), 50)
+        Y = nodes_of(obj.FemMesh)[1]
+        point1, axis1, r1, dev1 = fit_cylinder(Y[on])
+        self.assertLess(abs(r1 - target), 1e-6 * size)
+        self.assertLess(np.abs(radial(Y[on], point1, axis1) - target).max(), 1e-6 * size)
+        self.assertLess(np.linalg.norm(np.cross(axis, axis1)), 1e-9)
+        return abs(r1 - target) / size, np.abs(radial(Y[on], point1, axis1) - target).max() / size
+
+    def check_planes(self, base, obj, coordinate, moving, fixed, target):
+        """Nodes on the moving and the fixed plane (selected by coordinate) on planes the
+        test fits, the distance between them the target, the fixed plane unmoved."""
+        _, X = nodes_of(base.FemMesh)
+        Y = nodes_of(obj.FemMesh)[1]
+        size = np.linalg.norm(np.ptp(X, axis=0))
+        a = np.abs(X[:, coordinate] - moving) < 1e-9 * size
+        b = np.abs(X[:, coordinate] - fixed) < 1e-9 * size
+        self.assertGreater(min(a.sum(), b.sum()), 20)
+
+        def plane(P):
+            c = P.mean(axis=0)
+            n = np.linalg.svd(P - c)[2][-1]
+            return c, n, np.abs((P - c) @ n).max()
+        ca, na, da = plane(Y[a])
+        cb, nb, db = plane(Y[b])
+        self.assertLess(max(da, db), 1e-6 * size)
+        self.assertLess(np.linalg.norm(np.cross(na, nb)), 1e-9)
+        error = abs(abs((ca - cb) @ nb) - target)
+        self.assertLess(error, 1e-6 * size)
+        self.assertLessEqual(np.abs(Y[b] - X[b]).max(), 1e-12 * size)
+        return error / size
+
+    def check_calculix(self, obj):
+        """FreeCAD's CalculiX writer writes the result; its .inp reads back with the same
+        nodes and elements."""
+        from femmesh import meshsetsgetter
+        from femsolver.calculix import writer
+        from femtools import membertools
+        analysis = ObjectsFem.makeAnalysis(self.doc, "Analysis")
+        solver = ObjectsFem.makeSolverCalculixCcxTools(self.doc)
+        material = ObjectsFem.makeMaterialSolid(self.doc, "Steel")
+        values = material.Material
+        values.update({"Name": "Steel", "YoungsModulus": "210000 MPa", "PoissonRatio": "0.3",
+                       "Density": "7900 kg/m^3"})
+        material.Material = values
+        for o in (solver, material, ObjectsFem.makeConstraintFixed(self.doc), obj):
+            analysis.addObject(o)
+        self.doc.recompute()
+        sets = meshsetsgetter.MeshSetsGetter(analysis, solver, obj,
+                                             membertools.AnalysisMember(analysis))
+        sets.get_mesh_sets()
+        path = writer.FemInputWriterCcx(analysis, solver, obj, sets.member, tempfile.mkdtemp(),
+                                        sets.mat_geo_sets).write_solver_input()
+        with open(path) as f:
+            text = f.read()
+        self.assertIn("*Element, TYPE=C3D", text)
+        back = importInpMesh.read(path)
+        self.assertEqual((back.NodeCount, back.VolumeCount),
+                         (obj.FemMesh.NodeCount, obj.FemMesh.VolumeCount))
+        ids, X = nodes_of(obj.FemMesh)
+        ids2, X2 = nodes_of(back)
+        np.testing.assert_array_equal(ids, ids2)
+        self.assertLess(np.abs(X - X2).max(), 1e-9 * np.abs(X).max())
+
+
+class TestWheelset(FemDriveCase):
+    def test_axle_radius(self):
+        base = self.wheelset()
+        mesh = base.FemMesh
+        g = mesh.addGroup("AxleEnd", "Node")
+        mesh.addGroupElements(g, [1, 2, 3, 4])
+        g = mesh.addGroup("SomeVolumes", "Volume")
+        mesh.addGroupElements(g, list(mesh.Volumes[:5]))
+        base.FemMesh = mesh
+        self.doc.recompute()
+        obj = fd.make_dimension_drive(base, "Radius", [(0.0, 0.075, 0.0)], 0.08)
+        self.check_same_mesh(base, obj)
+        self.assertEqual(len(obj.FemMesh.Groups), 2)
+        print("\nwheelset radius: fit error / size %.2g, node deviation / size %.2g, quality "
+              "%.4f -> %.4f" % (*self.check_cylinder(
+                  base, obj, lambda X: (np.abs(X[:, 0]) < 0.6801)
+                  & (np.abs(np.hypot(X[:, 1], X[:, 2]) - 0.075) < 1e-3), 0.08),
+                  obj.QualityBefore, obj.QualityAfter))
+        self.assertAlmostEqual(obj.Current, 0.075, delta=1e-9)
+        self.assertAlmostEqual(obj.Achieved, 0.08, delta=1e-9)
+        self.check_calculix(obj)
+
+    def test_wheel_thickness(self):
+        base = self.wheelset()
+        obj = fd.make_dimension_drive(base, "Distance", [(-0.68, 0.2, 0.2), (-0.76, 0.2, 0.2)],
+                                      0.09)
+        self.check_same_mesh(base, obj)
+        error = self.check_planes(base, obj, 0, -0.68, -0.76, 0.09)
+        print(f"\nwheelset thickness: distance error / size {error:.2g}, quality "
+              f"{obj.QualityBefore:.4f} -> {obj.QualityAfter:.4f}")
+
+
+class TestRotor(FemDriveCase):
+    def check_rotor(self, order):
+        base = self.rotor(order)
+        obj = fd.make_dimension_drive(base, "Radius", [(102.5, 0, 5)], 100)
+        self.check_same_mesh(base, obj)
+        errors = self.check_cylinder(base, obj, lambda X: (X[:, 2] < 10.001)
+                                     & (np.abs(np.hypot(X[:, 0], X[:, 1]) - 102.5) < 1e-6), 100)
+        self.check_calculix(obj)
+        # the sub-tetrahedra of the quadratic mesh are half as thick: it reaches 9.16
+        thickness = 8 if order == 1 else 9.5
+        thick = fd.make_dimension_drive(base, "Distance", [(0, 50, 10), (0, 50, 0)], thickness)
+        self.check_same_mesh(base, thick)
+        error = self.check_planes(base, thick, 2, 10, 0, thickness)
+        print(f"\nrotor order {order}: radius fit error / size {errors[0]:.2g}, node "
+              f"deviation / size {errors[1]:.2g}, thickness error / size {error:.2g}; quality "
+              f"{obj.QualityBefore:.4f} -> {obj.QualityAfter:.4f} (radius), "
+              f"{thick.QualityAfter:.4f} (thickness)")
+
+    def test_linear(self):
+        self.check_rotor(1)
+
+    def test_quadratic(self):
+        self.check_rotor(2)
+
+    def test_inverting_target_is_refused_and_the_base_stays(self):
+        base = self.rotor()
+        ids, X = nodes_of(base.FemMesh)
+        obj = fd.make_dimension_drive(base, "Radius", [(102.5, 0, 5)], 100)
+        obj.Target = 96                       # the outer wall through the inner one (97.5)
+        self.doc.recompute()
+        self.assertIn("Invalid", obj.State)
+        status = obj.getStatusString()
+        self.assertIn("Target", status)
+        self.assertRegex(status, r"reachable 97\.[0-9]+ to [0-9.]+")
+        np.testing.assert_array_equal(nodes_of(base.FemMesh)[1], X)
+        obj.Target = 99
+        self.doc.recompute()
+        self.assertNotIn("Invalid", obj.State)
+        self.assertAlmostEqual(obj.Achieved, 99, delta=1e-9)
+
+    def test_save_and_reopen(self):
+        base = self.rotor()
+        obj = fd.make_dimension_drive(base, "Radius", [(102.5, 0, 5)], 101)
+        name, base_name = obj.Name, base.Name
+        path = os.path.join(tempfile.mkdtemp(), "fem_drive.FCStd")
+        self.doc.saveAs(path)
+        App.closeDocument(self.doc.Name)
+        self.doc = App.openDocument(path)
+        again = self.doc.getObject(name)
+        again.Target = 100.5
+        self.doc.recompute()
+        self.assertNotIn("Invalid", again.State, again.getStatusString())
+        self.assertAlmostEqual(again.Achieved, 100.5, delta=1e-9)
+        self.assertEqual(again.FemMesh.NodeCount, self.doc.getObject(base_name).FemMesh.NodeCount)
+
+
+if __name__ == "__main__":
+    unittest.main()
