@@ -137,7 +137,7 @@ def make_dimension_drive(mesh_obj, kind, regions, target, **options):
             raise ValueError("target of a Position is a (u, v) pair") from None
         values.update(Target=u, TargetV=v)
     else:
-        values["Target"] = target
+        values["TargetAngle" if kind == "Angle" else "Target"] = target
     for prop, value in _options(DimensionDrive, "make_dimension_drive", options).items():
         values[prop] = App.Vector(*value) if prop in ("Origin", "AxisPoint") else value
     return _make(proxy_for(mesh_obj), mesh_obj, values)

@@ -38,13 +38,17 @@ class DimensionDrive(DeformFeature):
         Prop("App::PropertyEnumeration", "Kind", "Dimension",
              "Distance: between two parallel planes (the first picked moves). Radius: of a "
              "cylinder. Position: of a feature on a base plane, in the (Origin, AxisPoint) "
-             "frame.", list(dd.KINDS)),
+             "frame. Angle: between two planes (the first turns about the line where they "
+             "meet), in TargetAngle.", list(dd.KINDS)),
         Prop("App::PropertyVectorList", "Regions", "Dimension",
              "Points on the mesh, each picking the region nearest it. Distance: moving plane, "
              "reference plane. Radius: the cylinder. Position: base plane, feature (then "
              "more feature regions if wanted)."),
         Prop("App::PropertyDistance", "Target", "Dimension",
              "The new dimension: the distance or the radius; for Position the u coordinate."),
+        Prop("App::PropertyAngle", "TargetAngle", "Dimension",
+             "Angle only: the new angle between the two planes (the wedge from their line "
+             "of intersection into each region)."),
         Prop("App::PropertyDistance", "TargetV", "Dimension",
              "Position only: the new v coordinate of the feature."),
         Prop("App::PropertyVectorDistance", "Origin", "Dimension",
@@ -129,14 +133,16 @@ class DimensionDrive(DeformFeature):
             raise DeformError("Regions is empty; pick the regions of the dimension.", "Regions")
         picks = [tuple(p) for p in obj.Regions]
         target = obj.Target.Value
-        if obj.Kind == "Position":
+        if obj.Kind == "Angle":
+            target = obj.TargetAngle.Value
+        elif obj.Kind == "Position":
             target = (target, obj.TargetV.Value)
         drive = self.drive(model, obj.Kind, picks, target, tuple(obj.Origin),
                            tuple(obj.AxisPoint))
         self._report(obj, "Current", drive.current)
         lo, hi = drive.reach
-        obj.Reachable = ([drive.current[0] + lo, drive.current[0] + hi]
-                         if len(drive.current) == 1 else [lo, hi])
+        obj.Reachable = (list(dd.reach_values(drive)) if len(drive.current) == 1
+                         else [lo, hi])
         vertices = self.deformed(model, drive)
         if drive.strained:
             App.Console.PrintWarning(

@@ -18,7 +18,7 @@ from .fits import fit_cylinder, fit_plane
 from .mesh_regions import region_adjacency, segment, triangle_normals, vertex_regions
 from .mesh_simplify import simplify
 
-KINDS = ("Distance", "Radius", "Position")
+KINDS = ("Distance", "Radius", "Position", "Angle")
 FIT_TOLERANCE = 1e-4   # a region is a plane / cylinder when its fit deviates less (x size)
 SIMPLIFY_TOLERANCE = 5e-3  # handle simplification error (x size)
 PARALLEL = 1e-3        # radians: two planes closer than this are parallel
@@ -32,6 +32,15 @@ class Drive(NamedTuple):
     reach: tuple          # (lo, hi): the interval of s in which no triangle turns over
     measure: Callable     # deformed vertices -> the dimension, like `current`
     strained: int = 0     # control vertices that could not keep all planes/cylinders around
+    value: Callable = None  # s -> the dimension (Angle: not current + s); None: current + s
+
+
+def reach_values(drive):
+    """(lowest, highest) value the dimension reaches within drive.reach (one-value kinds)."""
+    if drive.value is None:
+        return drive.current[0] + drive.reach[0], drive.current[0] + drive.reach[1]
+    ends = sorted(drive.value(s) for s in drive.reach)
+    return ends[0], ends[1]
 
 
 def _unit(v):
@@ -427,6 +436,68 @@ def position_drive(model, regions, target, origin, axis_point):
     return Drive(current, step, field, model.reach(field), measure)
 
 
+def angle_drive(model, regions, target):
+    """Angle: turn the first picked plane about its line of intersection with the second
+    (the hinge) so the wedge between them (from the hinge into each region) is `target`
+    degrees. The plane's vertices move along its normal by s times their distance from the
+    hinge (the paper's constraint vectors, scaled): an affine map of the plane, which turns
+    it by atan(s) exactly and keeps it a plane; the faces around it slide as for Distance."""
+    if len(regions) != 2:
+        raise DeformError("Regions: Angle needs two points, on the plane that turns and on "
+                          "the reference plane.", "Regions")
+    a, b = _two_regions(model, regions, "pick two planes that meet")
+    for label, which in ((a, "first"), (b, "second")):
+        if not model.planar[label]:
+            raise DeformError(f"Regions: the {which} point picks a region that is not a plane; "
+                              "Angle needs two planes.", "Regions")
+
+    def wedge(vertices, planes):
+        (na, da), (nb, db) = planes
+        hinge = np.cross(na, nb)
+        if np.linalg.norm(hinge) < np.sin(PARALLEL):
+            raise DeformError("Regions: the two planes are parallel; Angle needs two planes "
+                              "that meet (use Distance for parallel ones).", "Regions")
+        hinge = _unit(hinge)
+        ca = vertices[model.region_vertices(a)].mean(axis=0)
+        cb = vertices[model.region_vertices(b)].mean(axis=0)
+        c = np.linalg.solve(np.array([na, nb, hinge]), [da, db, hinge @ ca])
+        u, v = ca - c, cb - c
+        u, v = _unit(u - (u @ hinge) * hinge), _unit(v - (v @ hinge) * hinge)
+        return c, hinge, u, v, float(np.degrees(np.arccos(np.clip(u @ v, -1, 1))))
+
+    pa, pb = model.planes[a], model.planes[b]
+    c, hinge, u, v, current = wedge(model.vertices, ((pa.normal, pa.offset),
+                                                      (pb.normal, pb.offset)))
+    w = pa.normal
+    sigma = 1.0 if w @ v > 0 else -1.0       # turning u toward w closes the wedge
+    motion = np.zeros_like(model.vertices)
+    strained = 0
+    for vertex in model.control([a]):
+        beta = (model.vertices[vertex] - c) @ u
+        if abs(beta) < 1e-12 * model.size:
+            continue                          # on the hinge
+        cv, exact = model.constraint(vertex, w, {a})
+        if np.linalg.norm(cv) > 1e3:
+            raise DeformError("Regions: an edge of the turning plane cannot slide along the "
+                              "faces around it; pick another plane.", "Regions")
+        motion[vertex] = beta * cv
+        strained += not exact
+    if not 0 < target < 180:
+        raise DeformError("Target must be an angle between 0 and 180 degrees.", "Target")
+    turn = sigma * np.radians(current - target)
+    if abs(turn) >= np.pi / 2:
+        raise DeformError("Target turns the plane by 90 degrees or more; change Target in "
+                          "steps below 90 degrees.", "Target")
+
+    def measure(vertices):
+        planes = [fit_plane(vertices[model.region_vertices(r)]) for r in (a, b)]
+        return (wedge(vertices, [(p.normal, p.offset) for p in planes])[4],)
+
+    field = model.field(motion)
+    return Drive((current,), float(np.tan(turn)), field, model.reach(field), measure, strained,
+                 lambda s: current - sigma * float(np.degrees(np.arctan(s))))
+
+
 def drive(model, kind, regions, target, origin=None, axis_point=None):
     """The Drive of one dimension change (see the module docstring). The regions are
     checked before the target, so the first error names what to fix first."""
@@ -434,6 +505,8 @@ def drive(model, kind, regions, target, origin=None, axis_point=None):
         result = distance_drive(model, regions, target)
     elif kind == "Radius":
         result = radius_drive(model, regions, target)
+    elif kind == "Angle":
+        return angle_drive(model, regions, target)
     elif kind == "Position":
         if origin is None or axis_point is None:
             raise DeformError("Origin and AxisPoint are needed for Position.", "Origin")
@@ -458,6 +531,6 @@ def deformed(model, result):
 def _range_text(result):
     lo, hi = result.reach
     if len(result.current) == 1:
-        c = result.current[0]
-        return f"reachable {c + lo:.6g} to {c + hi:.6g} (now {c:.6g})"
+        low, high = reach_values(result)
+        return f"reachable {low:.6g} to {high:.6g} (now {result.current[0]:.6g})"
     return f"the feature can move {hi:.6g} toward the target (asked {result.step:.6g})"
