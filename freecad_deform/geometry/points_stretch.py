@@ -8,15 +8,31 @@ from .planes import parallel_gap, signed_distance, unit_normal
 TOUCH = 1e-9  # points this close to a plane count as on it (as in the mesh kernels)
 
 
+_SPACINGS = {}   # fingerprint of a cloud -> its spacing: a recompute of the same Base reuses it
+
+
 def spacing(points, sample=20000, seed=0):
     """Median distance to the nearest other point: the cloud's own sampling step.
 
-    Repeated points are ignored; a cloud without two distinct points has no step.
+    Repeated points are ignored; a cloud without two distinct points has no step. The
+    k-d tree over every point is the cost (about 1 s for 10^6 points): the result is kept
+    for the same cloud (its size, sum and a strided sample of its coordinates).
     """
     pts = np.asarray(points, float).reshape(-1, 3)
+    key = (len(pts), float(pts.sum()), pts[::max(1, len(pts) // 64)].tobytes(), sample, seed)
+    if key not in _SPACINGS:
+        if len(_SPACINGS) > 16:
+            _SPACINGS.clear()
+        _SPACINGS[key] = _spacing(pts, sample, seed)
+    return _SPACINGS[key]
+
+
+def _spacing(pts, sample, seed):
     rng = np.random.default_rng(seed)
     probe = pts[rng.choice(len(pts), size=min(sample, len(pts)), replace=False)]
-    dist, _ = cKDTree(pts).query(probe, k=min(8, len(pts)))
+    # an unbalanced, uncompacted tree builds about 2.5x faster and answers the same
+    tree = cKDTree(pts, balanced_tree=False, compact_nodes=False)
+    dist, _ = tree.query(probe, k=min(8, len(pts)))
     dist[dist == 0] = np.inf  # the probe itself and its exact repeats
     nearest = dist.min(axis=1)
     if not np.isfinite(nearest).any():
