@@ -6,7 +6,6 @@ import numpy as np
 import Part
 
 from ..geometry import area_constrain as ac
-from ..geometry.bspline_area import quadrature
 from ..geometry.errors import DeformError
 from ..shapes import bspline
 from .base import DeformFeature, Prop
@@ -118,8 +117,7 @@ class AreaConstrain(DeformFeature):
             App.Console.PrintWarning(f"{obj.Label}: {obj.Face}: {note}.\n")
         arrays = bspline.surface_arrays(surface)
         movable = parse_poles(list(obj.Poles), arrays.weights.shape)
-        ac.check_size(movable, obj.Dof)
-        q = quadrature(arrays, movable)
+        q = ac.area_quadrature(arrays, movable, obj.Dof, obj.Method)
         original = q.area(arrays.poles)
         solution = ac.constrain_surface_area(arrays, movable, self.target(obj, original),
                                              obj.Dof, obj.Method, q)

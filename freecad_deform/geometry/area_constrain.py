@@ -18,14 +18,15 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from .bspline_area import basis, find_span, quadrature, refined
+from .bspline_area import (GridQuadrature, basis, find_span, grid_quadrature, grid_refined,
+                           quadrature, refined)
 from .errors import DeformError
 
 DOFS = ("Normal", "Z", "Free")
 METHODS = ("Lagrange-Newton", "Penalty")
 MAX_ITERATIONS = 60
 FOLDED = 1e-10          # AreaError / area beyond which the result is refused
-MAX_VARIABLES = 2000    # the KKT system is dense: beyond this a solve takes minutes
+MAX_VARIABLES = 2000    # beyond this the dense KKT solve takes minutes: LargeProblem
 
 
 class Solution(NamedTuple):
@@ -62,7 +63,7 @@ def coincident(poles, movable):
     return list(groups.values()), held
 
 
-def directions(poles, groups, dof, surface=None):
+def directions(poles, groups, dof, surface=None, sparse=False):
     """(3k, n) matrix D (displacements of the poles of `groups`, in order, = D @ t; its
     columns are orthonormal so |t| is the displacement's norm) and the poles whose Normal
     fell back. Free: 3 per group; Z: z only; Normal: along the control-net normal, the mean
@@ -86,15 +87,19 @@ def directions(poles, groups, dof, surface=None):
                               for m in group]
             d = n[:, None]
         blocks.append((group, d / np.sqrt(len(group))))
-    k = sum(len(g) for g, _ in blocks)
-    D = np.zeros((3 * k, sum(d.shape[1] for _, d in blocks)))
+    rows, cols, values = [], [], []
     row = col = 0
     for group, d in blocks:
+        r, c = np.nonzero(d)
         for _ in group:
-            D[row:row + 3, col:col + d.shape[1]] = d
+            rows.append(row + r)
+            cols.append(col + c)
+            values.append(d[r, c])
             row += 3
         col += d.shape[1]
-    return D, tuple(sorted(fallbacks))
+    D = coo_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
+                   (row, col)).tocsr()
+    return (D if sparse else D.toarray()), tuple(sorted(fallbacks))
 
 
 def net_normal(poles, flat_index):
@@ -159,6 +164,7 @@ def fallback_normal(poles, flat_index, surface):
 
 class Problem:
     """Area, gradient and Hessian as functions of the reduced variables t (n,)."""
+    sparse = False
 
     def __init__(self, quadrature, poles, movable, dof):
         self.q = quadrature
@@ -168,7 +174,8 @@ class Problem:
             raise DeformError("Every pole in Poles coincides with a pole that stays (a "
                               "collapsed edge); list other poles.", "Poles")
         self.movable = np.array([m for g in groups for m in g], int)
-        self.D, self.fallbacks = directions(self.Q, groups, dof, quadrature.surface)
+        self.D, self.fallbacks = directions(self.Q, groups, dof, quadrature.surface,
+                                            self.sparse)
 
     def poles(self, t):
         P = self.Q.reshape(-1, 3).copy()
@@ -187,6 +194,77 @@ class Problem:
     def hessian(self, t):
         H = self.q.hessian(self.poles(t), self.movable, self.exact)
         return self.D.T @ H @ self.D
+
+    def step(self, t, lam, g, c):
+        """The Newton step (dt, new lambda) of the KKT system at (t, lam)."""
+        return _kkt_step(np.eye(len(t)) + lam * self.hessian(t), g, t, c)
+
+
+class LargeProblem(Problem):
+    """A Problem on a GridQuadrature (a surface of many poles): D sparse, the area's
+    gradient over all poles at once, and the Hessian only as products with vectors."""
+    sparse = True
+
+    def gradient(self, t):
+        a, g = self.q.gradient(self.poles(t))
+        return a, self.D.T @ g.reshape(-1, 3)[self.movable].ravel()
+
+    def hessp(self, P, v):
+        move = np.zeros(P.shape).reshape(-1, 3)
+        move[self.movable] = (self.D @ v).reshape(-1, 3)
+        h = self.q.hessp(P, move.reshape(P.shape))
+        return self.D.T @ h.reshape(-1, 3)[self.movable].ravel()
+
+    def step(self, t, lam, g, c):
+        """The KKT step by projected conjugate gradients: dt = the part along g that meets
+        the linearised constraint plus the tangential part minimising the model. Where CG
+        meets negative curvature on the tangent space, W is shifted past it (as
+        _kkt_step does) and CG starts again."""
+        gg = g @ g
+        normal = -(c / gg) * g
+        if lam == 0:                        # W = I
+            dt = normal - (t - (t @ g / gg) * g)
+            return dt, float(-(g @ (dt + t)) / gg)
+        P = self.poles(t)
+
+        def project(v):
+            return v - (v @ g / gg) * g
+        # inexact Newton: CG as far as the KKT residual calls for (quadratic near the end)
+        size = max(np.linalg.norm(t), 1e-300)
+        tol = min(1e-2, max(1e-10, 0.1 * (np.linalg.norm(t + lam * g) / size +
+                                          abs(c) / (np.sqrt(gg) * size))))
+        shift = 0.0
+        for _ in range(60):
+            def W(v):
+                return (1 + shift) * v + lam * self.hessp(P, v)
+            z, curvature = _projected_cg(W, project, -project(t + W(normal)),
+                                         1e-13 * (np.linalg.norm(t) + np.linalg.norm(normal)),
+                                         tol)
+            if curvature is None:
+                break
+            shift = max(2 * (shift - curvature), 1e-8)
+        dt = normal + z
+        return dt, float(-(g @ (W(dt) + t)) / gg)
+
+
+def _projected_cg(W, project, r, floor, tol=1e-10, max_iterations=200):
+    """(z, None): z on the tangent space with project(W z) = r, by conjugate gradients, to
+    |residual| <= tol |r| or `floor` (the rounding error of r); or (z, Rayleigh quotient
+    <= 0) when a direction of negative curvature turns up."""
+    z, d, rr = np.zeros_like(r), r.copy(), r @ r
+    stop = max(tol ** 2 * rr, floor ** 2, 1e-300)
+    for _ in range(max_iterations):
+        if rr <= stop:
+            break
+        Wd = project(W(d))
+        curvature = d @ Wd
+        if curvature <= 0:
+            return z, curvature / (d @ d)
+        alpha = rr / curvature
+        z, r = z + alpha * d, r - alpha * Wd
+        rr, old = r @ r, rr
+        d = project(r + (rr / old) * d)
+    return z, None
 
 
 def _converged(t, g, c, target):
@@ -217,8 +295,7 @@ def lagrange_newton(problem, target, start=None):
         if it > 3 and alpha == 1.0 and new_residual > 0.1 * residual:
             problem.exact = True
         residual = new_residual
-        W = np.eye(n) + lam * problem.hessian(t)
-        dt, lam_new = _kkt_step(W, g, t, c)
+        dt, lam_new = problem.step(t, lam, g, c)
         mu = max(mu, 2 * abs(lam_new), 1e-12)
 
         def merit(x):
@@ -354,7 +431,7 @@ def reachable_extreme(problem, target):
 
 
 def _stalled(problem, target):
-    extreme = reachable_extreme(problem, target)
+    extreme = None if problem.sparse else reachable_extreme(problem, target)
     below = target < problem.area(np.zeros(problem.D.shape[1]))
     if extreme is not None and ((below and target < extreme) or (not below and target > extreme)):
         word = "smallest" if below else "largest"
@@ -366,13 +443,29 @@ def _stalled(problem, target):
                        "Poles or choose another Dof.", "TargetArea")
 
 
-def check_size(movable, dof):
-    """DeformError naming Poles when the solve would be too large for the dense solver."""
+def large(movable, dof):
+    """Whether the solve has more variables than the dense solver takes."""
+    return len(movable) * (3 if dof == "Free" else 1) > MAX_VARIABLES
+
+
+def check_size(movable, dof, surface=None, method="Lagrange-Newton"):
+    """DeformError naming Poles when the solve is too large for the dense solver and the
+    large one (Lagrange-Newton on a non-rational surface) does not apply."""
+    if not large(movable, dof) or (surface is not None and np.all(surface.weights == 1) and
+                                   method == "Lagrange-Newton"):
+        return
     variables = len(movable) * (3 if dof == "Free" else 1)
-    if variables > MAX_VARIABLES:
-        raise DeformError(f"{len(movable)} poles with Dof {dof} are {variables} variables, "
-                          f"more than the {MAX_VARIABLES} this dense solver takes; list in "
-                          "Poles the poles of the region to change.", "Poles")
+    raise DeformError(f"{len(movable)} poles with Dof {dof} are {variables} variables, more "
+                      f"than the {MAX_VARIABLES} the dense solver takes, and the solver for "
+                      "more takes only non-rational faces with Method Lagrange-Newton; list "
+                      "in Poles the poles of the region to change.", "Poles")
+
+
+def area_quadrature(surface, movable, dof="Normal", method="Lagrange-Newton"):
+    """The quadrature the solve uses: `quadrature`, or for more variables than the dense
+    solver takes a GridQuadrature."""
+    check_size(movable, dof, surface, method)
+    return grid_quadrature(surface) if large(movable, dof) else quadrature(surface, movable)
 
 
 def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lagrange-Newton",
@@ -384,13 +477,15 @@ def constrain_area(quadrature, poles, movable, target, dof="Normal", method="Lag
                           "interior pole of a surface that has some).", "Poles")
     if not target > 0:
         raise DeformError("TargetArea must be positive.", "TargetArea")
-    check_size(movable, dof)
-    problem = Problem(quadrature, poles, movable, dof)
+    grid = isinstance(quadrature, GridQuadrature)
+    if not grid:
+        check_size(movable, dof)
+    problem = (LargeProblem if grid else Problem)(quadrature, poles, movable, dof)
     if method == "Lagrange-Newton":
         if start is not None:   # D has orthonormal columns: t = D^T (displacement)
             moved = (start.poles - problem.Q).reshape(-1, 3)[problem.movable].ravel()
             start = (problem.D.T @ moved, start.multiplier)
-        else:
+        elif not grid:
             start = flat_start(problem, target)
         try:
             t, lam, iterations = lagrange_newton(problem, target, start)
@@ -414,13 +509,13 @@ def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagra
     nodes are chosen on the original surface, checked on the new one (`error` is that
     check's estimate), and the solve goes on on the finer nodes the new shape needs.
     q: quadrature(surface, movable) when already built."""
-    check_size(movable, dof)
-    q = quadrature(surface, movable) if q is None else q
+    q = area_quadrature(surface, movable, dof, method) if q is None else q
+    grid = isinstance(q, GridQuadrature)
     sol, iterations = None, 0
     for _ in range(MAX_ITERATIONS):
         sol = constrain_area(q, surface.poles, movable, target, dof, method, sol)
         iterations += sol.iterations
-        q, finer = refined(q, sol.poles)
+        q, finer = (grid_refined if grid else refined)(q, sol.poles)
         if not finer and q.error > FOLDED * sol.area:
             raise DeformError(f"The surface that meets TargetArea {target:.8g} degenerates "
                               "(|S_u x S_v| near 0 along curves, as where it folds): its "
@@ -429,4 +524,4 @@ def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagra
                               "or free other Poles.", "TargetArea")
         if not finer:
             return sol._replace(error=q.error, iterations=iterations)
-    raise _stalled(Problem(q, surface.poles, movable, dof), target)
+    raise _stalled((LargeProblem if grid else Problem)(q, surface.poles, movable, dof), target)

@@ -194,8 +194,31 @@ def test_a_pole_without_a_net_normal_moves_along_the_surface_normal():
     assert own_area(s, sol.poles) == pytest.approx(1.02 * a0, rel=1e-12)
 
 
-def test_too_many_variables_are_refused_naming_poles():
+def test_too_many_variables_are_refused_naming_poles_where_the_large_solver_cannot():
     s = canopy(40)
     with pytest.raises(DeformError, match="variables") as e:
-        ac.constrain_surface_area(s, interior(s), 1e4, "Free")
+        ac.constrain_surface_area(s, interior(s), 1e4, "Free", "Penalty")
     assert e.value.prop == "Poles"
+    rational = s._replace(weights=np.where(np.arange(40)[:, None] % 2, 0.9, 1.0) * np.ones(40))
+    with pytest.raises(DeformError, match="non-rational") as e:
+        ac.constrain_surface_area(rational, interior(s), 1e4, "Free")
+    assert e.value.prop == "Poles"
+
+
+@pytest.mark.parametrize("dof", ["Normal", "Free"])
+def test_the_large_solver_reaches_the_target_with_the_least_change(monkeypatch, dof):
+    """Beyond MAX_VARIABLES (lowered here so the test stays small) the solve runs on the
+    tensor grid with conjugate gradients: the same exact area and the same optimum
+    (displacement along the area gradient) as the dense solver."""
+    monkeypatch.setattr(ac, "MAX_VARIABLES", 10)
+    s = canopy(12)
+    a0 = own_area(s)
+    sol = ac.constrain_surface_area(s, interior(s), 1.03 * a0, dof)
+    assert own_area(s, sol.poles) == pytest.approx(1.03 * a0, rel=1e-12)
+    d = (sol.poles - s.poles).reshape(-1, 3)[interior(s)]
+    _, g = quadrature(s).gradient(sol.poles, np.array(interior(s)))
+    if dof == "Normal":      # along each pole's net normal: compare the projections on it
+        n = np.array([ac.net_normal(s.poles, m) for m in interior(s)])
+        d, g = (np.sum(x * n, axis=1) for x in (d, g))
+    cos = abs(d.ravel() @ g.ravel()) / np.linalg.norm(d) / np.linalg.norm(g)
+    assert cos > 1 - 1e-12
