@@ -49,8 +49,10 @@ def _compute(doc, task, out, tmp):
     failed = any("Invalid" in o.State or "Error" in o.State for o in doc.Objects)
     if not failed:
         out["cells"] = {p: model.text(model.read_value(doc, p)) for p in task["outputs"]}
-    if task["formats"] and not failed:
+    # a failed variant keeps only its document (to open and see why), no result files
+    formats = [f for f in task["formats"] if not failed or f == "fcstd"]
+    if formats:
         folder = os.path.join(tmp, "exports")
-        for name in model.export(doc, task["formats"], folder, task["stem"]):
+        for name in model.export(doc, formats, folder, task["stem"]):
             with open(os.path.join(folder, name), "rb") as f:
                 out["files"][name] = f.read()

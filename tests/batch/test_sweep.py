@@ -7,7 +7,7 @@ import os
 import Part
 import pytest
 
-from .conftest import FREECADCMD, cli, mod_home
+from .conftest import FREECADCMD, App, cli, mod_home
 
 DISTANCES = ["10", "-500", "25.5", "3 cm"]  # -500 shrinks past the end: fails
 MM = [10.0, None, 25.5, 30.0]
@@ -31,10 +31,10 @@ def _without_seconds(rows):
 
 @pytest.fixture(scope="module")
 def serial(part_doc, tmp_path_factory):
-    """The sweep in this process's command (--jobs 1), STEP exports."""
+    """The sweep in this process's command (--jobs 1), STEP and FCStd exports."""
     folder = tmp_path_factory.mktemp("serial")
     done = cli("sweep", part_doc["path"], "--table", _write_table(folder), "--out",
-               folder / "out", "--jobs", 1, "--export", "step")
+               folder / "out", "--jobs", 1, "--export", "step,fcstd")
     return folder / "out", done
 
 
@@ -66,6 +66,11 @@ def test_failing_variant_is_recorded(serial):
     assert failed[0] == "-500" and failed[-3] == "False"
     assert "Distance" in failed[-1] and "shrinks past the end" in failed[-1]
     assert not os.path.exists(out / "exports" / "variant-0002_Stretch.step")
+    doc = App.openDocument(str(out / "exports" / "variant-0002.FCStd"))  # kept to look into
+    try:
+        assert doc.getObject("Stretch").Distance.Value == -500
+    finally:
+        App.closeDocument(doc.Name)
 
 
 def test_resumed_sweep_skips_done_rows(part_doc, serial, tmp_path):
@@ -158,7 +163,6 @@ def test_a_crashing_variant_does_not_stop_the_sweep(tmp_path):
     """Variant 2 kills its worker process (as a FreeCAD crash would): it is recorded as a
     crash, and the others still run, each result right."""
     import sys
-    from .conftest import App
     addon = tmp_path / "CrashAddon"  # installed in a Mod folder, as FreeCAD requires
     addon.mkdir()
     (addon / "crash_proxy.py").write_text(CRASH)
