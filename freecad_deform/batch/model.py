@@ -97,10 +97,21 @@ def set_value(doc, path, text):
     prop = attrs[0]
     if prop not in obj.PropertiesList:
         raise BatchError(f"{name} has no property {prop!r}; check the column {path!r}.")
-    if len(attrs) == 1:
-        setattr(obj, prop, parse_value(obj, prop, text))
-    else:
-        setattr(obj, prop, _with(getattr(obj, prop), attrs[1:], _number(text)))
+    try:
+        if len(attrs) == 1:
+            setattr(obj, prop, parse_value(obj, prop, text))
+        else:
+            setattr(obj, prop, _with(getattr(obj, prop), attrs[1:], _number(text)))
+    # FreeCAD: a ParserError (a RuntimeError) for "abc", an ArithmeticError for "3 kg"
+    except (ValueError, TypeError, AttributeError, RuntimeError, ArithmeticError) as e:
+        raise BatchError(f"{path} cannot take {text!r} ({_reason(e)}); give a value of its "
+                         f"kind (a number, or a quantity in its unit).") from None
+
+
+def _reason(error):
+    """FreeCAD's exceptions carry a dict: its message alone."""
+    first = error.args[0] if error.args else ""
+    return first.get("sErrMsg", str(first)) if isinstance(first, dict) else str(error)
 
 
 def plain(value):

@@ -37,8 +37,8 @@ def _compute(doc, task, out, tmp):
     try:
         for path, value in task["values"]:
             model.set_value(doc, path, value)
-    except (model.BatchError, ValueError, TypeError) as e:
-        out["error"] = f"{path} = {value!r} cannot be set: {e}"
+    except model.BatchError as e:
+        out["error"] = str(e)
         return
     for obj in doc.Objects:
         obj.touch()
@@ -53,6 +53,11 @@ def _compute(doc, task, out, tmp):
     formats = [f for f in task["formats"] if not failed or f == "fcstd"]
     if formats:
         folder = os.path.join(tmp, "exports")
-        for name in model.export(doc, formats, folder, task["stem"]):
+        try:
+            written = model.export(doc, formats, folder, task["stem"])
+        except (OSError, RuntimeError) as e:  # OCCT's writers raise Part.OCCError
+            out["valid"], out["error"] = False, f"export failed: {e}"
+            return
+        for name in written:
             with open(os.path.join(folder, name), "rb") as f:
                 out["files"][name] = f.read()

@@ -9,8 +9,8 @@ import pytest
 
 from .conftest import FREECADCMD, App, cli, mod_home
 
-DISTANCES = ["10", "-500", "25.5", "3 cm"]  # -500 shrinks past the end: fails
-MM = [10.0, None, 25.5, 30.0]
+DISTANCES = ["10", "-500", "25.5", "3 cm", "3 kg"]  # -500 shrinks past the end, kg: fail
+MM = [10.0, None, 25.5, 30.0, None]
 
 
 def _write_table(folder):
@@ -57,7 +57,7 @@ def test_sweep_table_and_oracle(part_doc, serial):
         step = Part.read(str(out / "exports" / f"variant-{rows.index(row):04d}_Stretch.step"))
         assert step.isValid()
         assert abs(step.Volume - part_doc["V0"] - expected) < 1e-6 * step.Volume
-    assert "ETA" in done.stderr and "4/4" in done.stderr
+    assert "ETA" in done.stderr and "5/5" in done.stderr
 
 
 def test_failing_variant_is_recorded(serial):
@@ -66,6 +66,10 @@ def test_failing_variant_is_recorded(serial):
     assert failed[0] == "-500" and failed[-3] == "False"
     assert "Distance" in failed[-1] and "shrinks past the end" in failed[-1]
     assert not os.path.exists(out / "exports" / "variant-0002_Stretch.step")
+    wrong_unit = _rows(out)[5]
+    assert wrong_unit[-3] == "False"
+    assert wrong_unit[-1].startswith("Stretch.Distance cannot take '3 kg' (Not matching "
+                                     "Unit!); give a value of its kind")
     doc = App.openDocument(str(out / "exports" / "variant-0002.FCStd"))  # kept to look into
     try:
         assert doc.getObject("Stretch").Distance.Value == -500
@@ -75,7 +79,7 @@ def test_failing_variant_is_recorded(serial):
 
 def test_resumed_sweep_skips_done_rows(part_doc, serial, tmp_path):
     """Rows 1 and 2 left from an interrupted run (their seconds set to a marker the run
-    cannot produce): the rerun keeps them as they are and computes rows 3 and 4."""
+    cannot produce): the rerun keeps them as they are and computes rows 3 to 5."""
     out, _ = serial
     rows = _rows(out)
     k = rows[0].index("seconds")
@@ -85,11 +89,11 @@ def test_resumed_sweep_skips_done_rows(part_doc, serial, tmp_path):
         csv.writer(f).writerows([rows[0]] + kept)
     done = cli("sweep", part_doc["path"], "--table", _write_table(tmp_path), "--out",
                tmp_path / "out", "--jobs", 1)
-    assert "2 of 4 variants already" in done.stderr and "2/2" in done.stderr
+    assert "2 of 5 variants already" in done.stderr and "3/3" in done.stderr
     again = _rows(tmp_path / "out")
     assert again[1:3] == kept
     assert _without_seconds(again) == _without_seconds(rows)
-    assert all(float(r[k]) > 0 for r in again[3:])
+    assert all(float(r[k]) > 0 for r in again[3:5])
 
 
 def test_two_local_workers_same_table(part_doc, serial, tmp_path):
