@@ -15,6 +15,7 @@ from scipy.spatial import ConvexHull
 from .dimension_handle import build_handle, triangle_fit
 from .errors import DeformError
 from .fits import fit_cylinder, fit_plane
+from .mesh_intersect import new_intersections
 from .mesh_regions import region_adjacency, segment, triangle_normals, vertex_regions
 from .mesh_simplify import simplify
 
@@ -520,12 +521,43 @@ def drive(model, kind, regions, target, origin=None, axis_point=None):
 
 def deformed(model, result):
     """The moved vertices of a Drive, or DeformError naming Target when the target is
-    beyond the deformable range (a triangle would turn over)."""
+    beyond the deformable range (a triangle would turn over) or makes the mesh cut
+    through itself."""
     lo, hi = result.reach
     if not lo < result.step < hi:
         raise DeformError(f"Target is beyond the deformable range: {_range_text(result)}; "
                           "beyond it triangles flip. Change Target.", "Target")
+    clear_of_self(model.vertices, model.triangles, result)
     return model.vertices + result.step * result.field
+
+
+CLEAR_STEPS = 7   # the clear range is found to 1/128 of the step
+
+
+def clear_of_self(vertices, triangles, result):
+    """DeformError naming Target, with the range that stays clear, when the mesh moved by
+    the Drive crosses itself (a hole grown through an outer wall)."""
+    moving = np.abs(result.field).max(axis=1) > 0
+    moved = moving[triangles].any(axis=1)
+    if not moved.any():
+        return
+
+    def crosses(s):
+        return new_intersections(vertices, vertices + s * result.field, triangles, moved) > 0
+    if not crosses(result.step):
+        return
+    good, bad = 0.0, result.step
+    for _ in range(CLEAR_STEPS):
+        mid = 0.5 * (good + bad)
+        good, bad = (good, mid) if crosses(mid) else (mid, bad)
+    if len(result.current) == 1:
+        value = (result.value(good) if result.value is not None
+                 else result.current[0] + good)
+        text = f"it stays clear from {result.current[0]:.6g} to {value:.6g}"
+    else:
+        text = f"the feature can move {good:.6g} toward the target (asked {result.step:.6g})"
+    raise DeformError(f"Target makes the mesh cut through itself: {text}; change Target.",
+                      "Target")
 
 
 def _range_text(result):

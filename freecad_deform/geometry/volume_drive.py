@@ -57,4 +57,7 @@ class VolumeModel:
             raise DeformError(f"Target is beyond the deformable range: {dd._range_text(drive)}; "
                               "beyond it tetrahedra invert or boundary triangles flip. "
                               "Change Target.", "Target")
+        surface = self.surface
+        dd.clear_of_self(surface.vertices, surface.triangles,
+                         drive._replace(field=drive.field[self.boundary]))
         return self.nodes + drive.step * drive.field

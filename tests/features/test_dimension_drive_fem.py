@@ -293,6 +293,25 @@ class TestRotor(FemDriveCase):
         self.assertNotIn("Invalid", obj.State)
         self.assertAlmostEqual(obj.Achieved, 99, delta=1e-9)
 
+    def test_disc_driven_into_the_other_disc_is_refused(self):
+        """No tetrahedron inverts when the lower disc's top rises past the upper disc's
+        bottom at 20 mm (two bodies, 10 mm apart): the crossing is found and the range
+        that stays clear given (within 1/128 of the step, 15 mm, below 20)."""
+        base = self.rotor()
+        X = nodes_of(base.FemMesh)[1]
+        obj = fd.make_dimension_drive(base, "Distance", [(0, 50, 10), (0, 50, 0)], 25)
+        self.assertIn("Invalid", obj.State)
+        status = obj.getStatusString()
+        self.assertRegex(status, r"Target makes the mesh cut through itself: it stays clear "
+                                 r"from 10 to [0-9.]+")
+        clear = float(status.split(" to ")[1].split(";")[0])
+        self.assertTrue(20 - 15 / 128 - 1e-9 <= clear <= 20, clear)
+        np.testing.assert_array_equal(nodes_of(base.FemMesh)[1], X)
+        obj.Target = 19
+        self.doc.recompute()
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        self.assertAlmostEqual(obj.Achieved, 19, delta=1e-9)
+
     def test_save_and_reopen(self):
         base = self.rotor()
         obj = fd.make_dimension_drive(base, "Radius", [(102.5, 0, 5)], 101)

@@ -1,0 +1,93 @@
+"""Self-intersection of a triangle mesh whose vertices moved: the pairs of triangles, one
+of them moved, that share no vertex and cross (an edge of one through the other).
+
+Candidates are the pairs whose bounding spheres meet (k-d trees of triangle centres per
+size class), filtered by bounding boxes, then tested
+exactly with segment-triangle tests (coplanar touching and edges that only touch are not
+counted).
+"""
+import numpy as np
+from scipy.spatial import cKDTree
+
+CHUNK = 200000   # candidate pairs tested at once (memory)
+
+
+def _candidates(X, T, moved):
+    """Pairs (i, j), i < j, one of them moved, sharing no vertex, whose bounding spheres
+    (about the centroid) meet: k-d trees per size class of the triangles (radii binned by
+    factors of 2), each pair of classes searched within the sum of their largest radii."""
+    tri = X[T]
+    centre = tri.mean(axis=1)
+    radius = np.linalg.norm(tri - centre[:, None], axis=2).max(axis=1)
+    movers = np.nonzero(moved)[0]
+    if len(movers) == 0:
+        return np.zeros((0, 2), np.int64)
+    level = np.floor(np.log2(np.maximum(radius, 1e-300) / max(radius.max(), 1e-300)))
+    level = np.maximum(level, -40)
+    classes = [np.nonzero(level == k)[0] for k in np.unique(level)]
+    trees = [cKDTree(centre[c]) for c in classes]
+    pairs = []
+    for ca in classes:
+        a = ca[moved[ca]]
+        if len(a) == 0:
+            continue
+        tree_a = cKDTree(centre[a])
+        for cb, tree_b in zip(classes, trees):
+            found = tree_a.sparse_distance_matrix(tree_b, radius[a].max() + radius[cb].max(),
+                                                  output_type="ndarray")
+            i, j = a[found["i"]], cb[found["j"]]
+            keep = found["v"] <= radius[i] + radius[j]
+            pairs.append(np.column_stack([i[keep], j[keep]]))
+    p = np.sort(np.concatenate(pairs), axis=1)
+    p = np.unique(p[p[:, 0] != p[:, 1]], axis=0)
+    shared = (T[p[:, 0], :, None] == T[p[:, 1], None, :]).any(axis=(1, 2))
+    return p[~shared]
+
+
+def _segments_cross(a, b, tri):
+    """Segments a-b (K,3) that pass through the interior of triangles tri (K,3,3)."""
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    d = b - a
+    h = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, h)
+    scale = np.linalg.norm(e1, axis=1) * np.linalg.norm(e2, axis=1) * np.linalg.norm(d, axis=1)
+    ok = np.abs(det) > 1e-12 * np.maximum(scale, 1e-300)
+    det = np.where(ok, det, 1.0)
+    s = a - tri[:, 0]
+    u = np.einsum("ij,ij->i", s, h) / det
+    q = np.cross(s, e1)
+    v = np.einsum("ij,ij->i", d, q) / det
+    t = np.einsum("ij,ij->i", e2, q) / det
+    eps = 1e-12
+    return ok & (u > eps) & (v > eps) & (u + v < 1 - eps) & (t > eps) & (t < 1 - eps)
+
+
+def crossing(X, T, pairs):
+    """Boolean (P,): the triangles of each pair cross."""
+    out = np.zeros(len(pairs), bool)
+    for i in range(0, len(pairs), CHUNK):
+        p = pairs[i:i + CHUNK]
+        A, B = X[T[p[:, 0]]], X[T[p[:, 1]]]
+        lo = np.maximum(A.min(axis=1), B.min(axis=1))
+        hi = np.minimum(A.max(axis=1), B.max(axis=1))
+        box = np.all(lo <= hi, axis=1)
+        hit = np.zeros(len(p), bool)
+        A, B = A[box], B[box]
+        sub = np.zeros(len(A), bool)
+        for one, other in ((A, B), (B, A)):
+            for k in range(3):
+                sub |= _segments_cross(one[:, k], one[:, (k + 1) % 3], other)
+        hit[box] = sub
+        out[i:i + CHUNK] = hit
+    return out
+
+
+def new_intersections(X0, X1, T, moved):
+    """Number of triangle pairs (one of them moved) that cross in X1 and did not in X0."""
+    pairs = _candidates(X1, T, moved)
+    if len(pairs) == 0:
+        return 0
+    now = crossing(X1, T, pairs)
+    if not now.any():
+        return 0
+    return int(np.count_nonzero(~crossing(X0, T, pairs[now])))
