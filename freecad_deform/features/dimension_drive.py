@@ -7,6 +7,7 @@ Base mesh, FeatureAngle and HandleTolerance; it is kept on the proxy (not saved)
 new Target costs one sparse product.
 """
 import hashlib
+import re
 
 import FreeCAD as App
 import numpy as np
@@ -137,13 +138,19 @@ class DimensionDrive(DeformFeature):
             target = obj.TargetAngle.Value
         elif obj.Kind == "Position":
             target = (target, obj.TargetV.Value)
-        drive = self.drive(model, obj.Kind, picks, target, tuple(obj.Origin),
-                           tuple(obj.AxisPoint))
-        self._report(obj, "Current", drive.current)
-        lo, hi = drive.reach
-        obj.Reachable = (list(dd.reach_values(drive)) if len(drive.current) == 1
-                         else [lo, hi])
-        vertices = self.deformed(model, drive)
+        try:
+            drive = self.drive(model, obj.Kind, picks, target, tuple(obj.Origin),
+                               tuple(obj.AxisPoint))
+            self._report(obj, "Current", drive.current)
+            lo, hi = drive.reach
+            obj.Reachable = (list(dd.reach_values(drive)) if len(drive.current) == 1
+                             else [lo, hi])
+            vertices = self.deformed(model, drive)
+        except DeformError as e:
+            if obj.Kind == "Angle" and e.prop == "Target":   # the angle lives in TargetAngle
+                raise DeformError(re.sub(r"\bTarget\b", "TargetAngle", str(e)),
+                                  "TargetAngle") from None
+            raise
         if drive.strained:
             App.Console.PrintWarning(
                 f"{obj.Label}: {drive.strained} corner(s) of the moving plane meet faces that "

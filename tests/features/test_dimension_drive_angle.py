@@ -63,7 +63,9 @@ class TestAngle(unittest.TestCase):
         obj.TargetAngle = 100          # the upright's top end (10 thick, 70 up) pinches at 98
         self.doc.recompute()
         self.assertIn("Invalid", obj.State)
-        self.assertRegex(obj.getStatusString(), r"Target .*reachable [0-9.]+ to 98\.[0-9]+")
+        self.assertRegex(obj.getStatusString(),
+                         r"TargetAngle is beyond .*reachable [0-9.]+ to 98\.[0-9]+")
+        self.assertEqual(obj.Proxy.error_prop, "TargetAngle")
         np.testing.assert_array_equal(arrays(base.Mesh)[0], P)
         obj.TargetAngle = 95
         self.doc.recompute()
