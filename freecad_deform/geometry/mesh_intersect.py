@@ -7,6 +7,8 @@ exactly with segment-triangle tests (coplanar touching and edges that only touch
 counted).
 """
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 CHUNK = 200000   # candidate pairs tested at once (memory)
@@ -44,8 +46,12 @@ def _candidates(X, T, moved):
     return p[~shared]
 
 
-def _segments_cross(a, b, tri):
-    """Segments a-b (K,3) that pass through the interior of triangles tri (K,3,3)."""
+TOUCH = 1e-6   # relative: what counts as touching in the Base
+
+
+def _segments_cross(a, b, tri, touch=False):
+    """Segments a-b (K,3) that pass through the interior of triangles tri (K,3,3); with
+    `touch`, also those that come within TOUCH (relative) of it or lie in its plane."""
     e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
     d = b - a
     h = np.cross(d, e2)
@@ -58,36 +64,63 @@ def _segments_cross(a, b, tri):
     q = np.cross(s, e1)
     v = np.einsum("ij,ij->i", d, q) / det
     t = np.einsum("ij,ij->i", e2, q) / det
-    eps = 1e-12
-    return ok & (u > eps) & (v > eps) & (u + v < 1 - eps) & (t > eps) & (t < 1 - eps)
+    eps = -TOUCH if touch else 1e-12
+    hit = ok & (u > eps) & (v > eps) & (u + v < 1 - eps) & (t > eps) & (t < 1 - eps)
+    if touch:
+        n = np.cross(e1, e2)
+        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+        size = np.maximum(np.maximum(np.linalg.norm(e1, axis=1), np.linalg.norm(e2, axis=1)),
+                          np.linalg.norm(d, axis=1))
+        off = np.maximum(np.abs(np.einsum("ij,ij->i", s, n)),
+                         np.abs(np.einsum("ij,ij->i", b - tri[:, 0], n)))
+        hit |= ~ok & (off <= TOUCH * size)
+    return hit
 
 
-def crossing(X, T, pairs):
-    """Boolean (P,): the triangles of each pair cross."""
+def crossing(X, T, pairs, touch=False):
+    """Boolean (P,): the triangles of each pair cross (with `touch`: or touch)."""
     out = np.zeros(len(pairs), bool)
     for i in range(0, len(pairs), CHUNK):
         p = pairs[i:i + CHUNK]
         A, B = X[T[p[:, 0]]], X[T[p[:, 1]]]
         lo = np.maximum(A.min(axis=1), B.min(axis=1))
         hi = np.minimum(A.max(axis=1), B.max(axis=1))
-        box = np.all(lo <= hi, axis=1)
+        slack = TOUCH * np.ptp(A, axis=1).max(axis=1) if touch else 0.0
+        box = np.all(lo <= hi + np.reshape(slack, (-1, 1)), axis=1)
         hit = np.zeros(len(p), bool)
         A, B = A[box], B[box]
         sub = np.zeros(len(A), bool)
         for one, other in ((A, B), (B, A)):
             for k in range(3):
-                sub |= _segments_cross(one[:, k], one[:, (k + 1) % 3], other)
+                sub |= _segments_cross(one[:, k], one[:, (k + 1) % 3], other, touch)
         hit[box] = sub
         out[i:i + CHUNK] = hit
     return out
 
 
+def pieces(T, n):
+    """Connected piece (by shared vertices) of each triangle."""
+    e = np.concatenate([T[:, [0, 1]], T[:, [1, 2]]])
+    _, label = connected_components(coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])),
+                                               shape=(n, n)), directed=False)
+    return label[T[:, 0]]
+
+
 def new_intersections(X0, X1, T, moved):
-    """Number of triangle pairs (one of them moved) that cross in X1 and did not in X0."""
+    """Number of triangle pairs (one of them moved) that cross in X1, between pieces of
+    the mesh (or within one) that neither crossed nor touched anywhere in X0: pieces that
+    already lie against or through each other in the Base (an assembly of shells, a
+    scan's overlaps) stay allowed to."""
     pairs = _candidates(X1, T, moved)
     if len(pairs) == 0:
         return 0
     now = crossing(X1, T, pairs)
     if not now.any():
         return 0
-    return int(np.count_nonzero(~crossing(X0, T, pairs[now])))
+    piece = pieces(T, len(X0))
+    before = _candidates(X0, T, moved)
+    before = before[crossing(X0, T, before, touch=True)]
+    k = piece.max() + 1
+    exempt = np.unique(np.sort(piece[before], axis=1) @ [k, 1])
+    key = np.sort(piece[pairs[now]], axis=1) @ [k, 1]
+    return int(np.count_nonzero(~np.isin(key, exempt)))
