@@ -14,6 +14,7 @@ from .widgets import direction_of
 SIZE = 0.08      # dragger size, x the Base's bounding-box diagonal
 OUT = 0.6        # distance of a handle from the box centre's projection, x the diagonal
 POLL_MS = 30     # how often a dragged handle is read
+DISC = 2.5       # the angle disc's size, x a slider's: room to sweep it far from its centre
 
 
 def _frame(normal):
@@ -71,6 +72,7 @@ class PanelHandles:
     def __init__(self, panel, names):
         self.panel, self.obj = panel, panel.obj
         self.handles, self.start, self.dragging = {}, {}, False
+        from pivy import coin  # noqa: F401  (FreeCAD 1.1 wraps the scene graph only after it)
         view = Gui.ActiveDocument.ActiveView if Gui.ActiveDocument else None
         self.scene = view.getSceneGraph() if view is not None else None
         if self.scene is None:
@@ -131,7 +133,7 @@ class PanelHandles:
         size = SIZE * max(bound_box(self.obj.Base).DiagonalLength, 1e-6)
         for name, handle in self.handles.items():
             point, direction = self.geometry(name)
-            handle.place(point, direction, size)
+            handle.place(point, direction, size * (DISC if handle.kind == "turn" else 1.0))
         self.start = {n: self._value(n) for n in self.handles}
 
     def _value(self, name):

@@ -30,7 +30,10 @@ class SplitSweepPanel(TaskPanelBase):
         self.use_plane2 = self.plane2_offset = self.samples = None
         super().__init__(*args, **kwargs)
         if self.HANDLES:
-            self.handles = PanelHandles(self, self.HANDLES)
+            try:
+                self.handles = PanelHandles(self, self.HANDLES)
+            except (ImportError, RuntimeError, AttributeError) as e:  # a view without Coin
+                App.Console.PrintWarning(f"{self.TYPE}: no handles in the 3D view ({e})\n")
 
     # --- the 3D-view handles --------------------------------------------------------------
     def update_status(self):

@@ -131,7 +131,7 @@ def test_all_checks_pass(gui_run):
     "Taper: Cancel leaves the document unchanged",
     "Twist handles: two plane sliders and an angle disc in the 3D view",
     "Twist handle: Plane lands where its handle was let go (1 px)",
-    "Twist handle: the disc turns Angle by the angle swept in its plane (1 deg)",
+    "Twist handle: the disc turns Angle by the angle swept in its plane (5 deg)",
     "Twist handles gone after Cancel",
     "DimensionDrive: one undo step", "DimensionDrive: undo removes it",
     "DimensionDrive: Cancel leaves the document unchanged",
