@@ -499,6 +499,46 @@ def angle_drive(model, regions, target):
                  lambda s: current - sigma * float(np.degrees(np.arctan(s))))
 
 
+def matching_regions(model, regions, other):
+    """Points on the mesh of DimensionModel `other`, one per picked region of `model`, on
+    the region of `other` that lies on the same plane or cylinder (the mating surface of
+    an assembly: a shaft in a bore, a face against a face; Date & Onosato, Fig. 8)."""
+    tol = FIT_TOLERANCE * max(model.size, other.size)
+    centres = other.vertices[other.triangles].mean(axis=1)
+    out = []
+    for p in regions:
+        label = model.region_at(p)
+        best, score = None, np.inf
+        if model.planar[label]:
+            plane = model.planes[label]
+            for r in np.nonzero(other.planar)[0]:
+                q = other.planes[r]
+                cos = q.normal @ plane.normal
+                gap = abs(q.offset - np.sign(cos) * plane.offset)
+                if abs(abs(cos) - 1) < 1e-9 and gap <= tol and gap < score:
+                    best, score = r, gap
+        elif model.cylinder(label) is not None:
+            cyl = model.cylinder(label)
+            for r in range(other.count):
+                q = other.cylinder(r)
+                if q is None or np.linalg.norm(np.cross(q.axis, cyl.axis)) > 1e-6:
+                    continue
+                d = q.point - cyl.point
+                gap = max(abs(q.radius - cyl.radius),
+                          np.linalg.norm(d - (d @ cyl.axis) * cyl.axis))
+                if gap <= tol and gap < score:
+                    best, score = r, gap
+        if best is None:
+            raise DeformError("Regions: the other mesh has no plane or cylinder where the "
+                              f"region picked at {tuple(np.round(p, 6))} lies; pick regions "
+                              "the two meshes share.", "Regions")
+        mine = np.nonzero(other.labels == best)[0]
+        middle = centres[mine].mean(axis=0)
+        out.append(tuple(float(c) for c in
+                         centres[mine[np.argmin(np.linalg.norm(centres[mine] - middle, axis=1))]]))
+    return out
+
+
 def drive(model, kind, regions, target, origin=None, axis_point=None):
     """The Drive of one dimension change (see the module docstring). The regions are
     checked before the target, so the first error names what to fix first."""
