@@ -245,13 +245,19 @@ def make_matching_drive(drive_obj, other):
     Onosato, Fig. 8)."""
     from ..api import make_dimension_drive
     model, _ = drive_obj.Proxy.model(drive_obj)
+    shown = other.Visibility
     probe = make_dimension_drive(other, drive_obj.Kind, [], 1.0,
                                  feature_angle=drive_obj.FeatureAngle.Value,
                                  handle_tolerance=drive_obj.HandleTolerance.Value)
-    mine = probe.Proxy.model(probe)[0]
-    picks = dd.matching_regions(getattr(model, "surface", model),
-                                [tuple(p) for p in drive_obj.Regions],
-                                getattr(mine, "surface", mine))
+    try:
+        mine = probe.Proxy.model(probe)[0]
+        picks = dd.matching_regions(getattr(model, "surface", model),
+                                    [tuple(p) for p in drive_obj.Regions],
+                                    getattr(mine, "surface", mine))
+    except DeformError:
+        probe.Document.removeObject(probe.Name)     # nothing left behind
+        other.Visibility = shown
+        raise
     probe.Regions = [App.Vector(*p) for p in picks]
     for name in ("Target", "TargetV", "TargetAngle"):
         probe.setExpression(name, f"{drive_obj.Name}.{name}")

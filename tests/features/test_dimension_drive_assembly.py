@@ -75,9 +75,12 @@ class TestAssembly(unittest.TestCase):
             Part.makeCylinder(8, 30, V(50, 30, 0))), "Block")
         other = self.mesh(Part.makeCylinder(5, 50, V(50, 30, -10)), "Thin")
         first = fd.make_dimension_drive(block, "Radius", [(58, 30, 15)], 9)
+        names = sorted(o.Name for o in self.doc.Objects)
         with self.assertRaisesRegex(ValueError, "Regions: the other mesh has no plane or "
                                                 "cylinder"):
             make_matching_drive(first, other)
+        self.assertEqual(sorted(o.Name for o in self.doc.Objects), names)
+        self.assertTrue(other.Visibility)
 
 
 if __name__ == "__main__":
