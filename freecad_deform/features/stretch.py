@@ -2,11 +2,13 @@
 import numpy as np
 
 from ..geometry import motion as mo
+from ..geometry import space_map
 from ..geometry.errors import DeformError
 from ..geometry.points_stretch import stretch_points
 from ..geometry.polyline import FoldedSurface
-from ..shapes import brep
+from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
+from . import flex
 from . import split_sweep as ss
 from .base import DeformFeature, Prop
 
@@ -22,8 +24,8 @@ class Stretch(DeformFeature):
              "Case 3: corner points of a polyline in a plane that contains the Plane normal; "
              "the separating surface is the polyline extruded perpendicular to that plane, "
              "and the part moves along the Plane normal. Empty: the flat Plane."),
-        ss.KEYS, ss.INTERPOLATION, ss.SAMPLES,
-    ) + ss.RESULTS
+        ss.KEYS, ss.INTERPOLATION, ss.SAMPLES, flex.TOLERANCE,
+    ) + ss.RESULTS + (flex.MAX_DEVIATION,)
 
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj)
@@ -46,11 +48,13 @@ class Stretch(DeformFeature):
             return ss.mesh_result(obj.Base.Mesh, *stretch_mesh(
                 v, t, origin, normal, distance, *second, eps=mesh_eps(v)))
         shape = obj.Base.Shape
-        result = stretch_shape(shape, origin, normal, distance, gap)
+        report = {"MaxDeviation": 0.0}
+        result = stretch_shape(shape, origin, normal, distance, gap, flex.tolerance(obj), report)
         joints = [(origin, normal, ss.constant(normal))]
         if gap is not None:
             joints.append((origin + gap * normal, normal, ss.constant(normal)))
-        return result, {**ss.volume_change(result, shape), **ss.joint_report(shape, joints)}
+        return result, {**ss.volume_change(result, shape), **ss.joint_report(shape, joints),
+                        **report}
 
 
     def _folded(self, obj, kind, normal, distance):
@@ -110,30 +114,39 @@ def stretch_folded(shape, surface, distance):
     return out[0] if len(out) == 1 else Part.makeCompound(out)
 
 
-def stretch_shape(shape, origin, normal, distance, gap=None):
-    """The stretched shape: each solid of `shape` split, moved, filled and joined."""
+def stretch_shape(shape, origin, normal, distance, gap=None, tolerance=1e-3, report=None):
+    """The stretched shape: each solid of `shape` split, moved, filled and joined; between
+    two planes a region whose outline changes goes through the stretch's space map
+    (shapes.mapped, faces refit within `tolerance`; report["MaxDeviation"] their largest
+    deviation)."""
     if gap is not None and gap + distance <= 0:
         raise DeformError(f"Distance {distance:g} would collapse the region between the planes "
                           f"(gap {gap:g}); keep Distance above {-gap:g}.", "Distance")
     return ss.deform_shape(
         shape, origin, normal, gap,
-        lambda solid: _stretch_solid(solid, origin, normal, distance, gap),
+        lambda solid: _stretch_solid(solid, origin, normal, distance, gap, tolerance, report),
         lambda parts: _stretch_loose(parts, origin, normal, distance, gap))
 
 
-def _stretch_solid(solid, origin, normal, distance, gap):
+def _stretch_solid(solid, origin, normal, distance, gap, tolerance=1e-3, report=None):
     move = distance * normal
     if distance == 0:
         return solid.copy()
     if gap is not None:
-        near, between, far = brep.split_zones(solid, origin, normal, [0.0, gap])
+        zones = brep.split_zones(solid, origin, normal, [0.0, gap])
+        near, between, far = zones
         cut = brep.faces_on_plane(near, origin, normal)
-        if cut and brep.is_prismatic(between, origin, normal, gap):
-            middle = brep.extruded(cut, (gap + distance) * normal)
-        else:
-            middle = brep.affine_stretched(between, origin, normal, (gap + distance) / gap)
-        return _joined(near + middle + brep.translated(far, move),
-                       [(origin, normal), (origin + (gap + distance) * normal, normal)])
+        if not between or (cut and brep.is_prismatic(between, origin, normal, gap)):
+            middle = brep.extruded(cut, (gap + distance) * normal) if between else []
+            return _joined(near + middle + brep.translated(far, move),
+                           [(origin, normal), (origin + (gap + distance) * normal, normal)])
+        # planes stay planes and cylinders along the normal stay themselves; other faces
+        # are refit (OCCT's own affine transform approximates circles to about 1e-3)
+        smap = space_map.stretch_map(origin, normal, gap, distance)
+        result, deviation = mapped.map_solid(solid, smap, tolerance, "Tolerance", zones)
+        if report is not None:
+            report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
+        return result
     if distance > 0:
         near, far = brep.split_zones(solid, origin, normal, [0.0])
         cut = brep.faces_on_plane(near, origin, normal)

@@ -236,29 +236,66 @@ def map_face(face, smap, tol):
         built = _turned_on_surface(face, smap, tol)
         if built is not None:
             return built
+    along = getattr(smap, "affine", False) and face.Surface.TypeId == "Part::GeomCylinder" \
+        and _parallel(face.Surface.Axis, smap.normal)
+    if along and bspline.natural(face):
+        # a stretch along its axis keeps every point on the very same cylinder: the face is
+        # its parameter rectangle with the axial bounds mapped
+        return _stretched_rectangle(face, smap), 0.0
     built, dev = _fitted(face, lambda p: smap(p, clamp=False), tol)
-    if getattr(smap, "affine", False) and face.Surface.TypeId == "Part::GeomPlane":
-        return _on_plane(built, smap), dev
+    if getattr(smap, "affine", False):
+        if face.Surface.TypeId == "Part::GeomPlane":
+            return _on_surface(built, _plane_of(built)), dev
+        if along:
+            return _on_surface(built, face.Surface.copy()), dev
     return built, dev
 
 
-def _on_plane(built, smap):
-    """The fitted image of a planar face under an affine map put back on a Part.Plane (the
-    plane through the mapped points; its edges lie on it to the fit's deviation)."""
+def _stretched_rectangle(face, smap):
+    """A face that is its cylinder's (u0..u1, v0..v1) rectangle, on the same cylinder over
+    (u0..u1, v0'..v1'): v0, v1 taken through the map along the axis."""
+    surface = face.Surface
+    u0, u1, v0, v1 = face.ParameterRange
+    ends = smap(np.array([tuple(surface.value(u0, v)) for v in (v0, v1)]), clamp=False)
+    w0, w1 = (surface.parameter(vector(p))[1] for p in ends)
+    new = surface.copy().toShape(u0, u1, w0, w1)
+    if face.Orientation == "Reversed":
+        new.reverse()
+    return new
+
+
+def _parallel(direction, normal, tol=1e-12):
+    d = np.array(tuple(direction), float)
+    return np.linalg.norm(np.cross(d / np.linalg.norm(d), _unit(np.asarray(normal)))) < tol
+
+
+def _plane_of(built):
+    """The Part.Plane through three corners of a fitted planar face, along its normal."""
     import FreeCAD as App
     u0, u1, v0, v1 = built.ParameterRange
-    p = smap.__call__(surface_grid(built.Surface, [u0, u1], [v0, v1]).reshape(-1, 3),
-                      clamp=False)
+    p = surface_grid(built.Surface, [u0, u1], [v0, v1]).reshape(-1, 3)
     normal = np.cross(p[2] - p[0], p[1] - p[0])
     if np.dot(normal, np.array(tuple(built.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))))) < 0:
         normal = -normal
-    plane = Part.Plane(App.Vector(*p[0]), App.Vector(*normal))
+    return Part.Plane(App.Vector(*p[0]), App.Vector(*normal))
+
+
+def _on_surface(built, surface):
+    """The fitted image of a face under an affine map put back on the exact `surface` the
+    map takes its surface to (a plane stays a plane, a cylinder along the stretch stays
+    itself): bounded by the fitted face's wires, which lie on it to the fit's deviation.
+    The fitted face when OCCT cannot build it valid with the same area (1e-6)."""
     forward = built.reversed() if built.Orientation == "Reversed" else built
     try:
-        face = Part.Face(plane, forward.OuterWire)
+        face = Part.Face(surface, forward.OuterWire)
         for wire in forward.Wires:
             if not wire.isSame(forward.OuterWire):
                 face = Part.Face(face, wire)
+        u0, u1, v0, v1 = forward.ParameterRange
+        mid = (0.5 * (u0 + u1), 0.5 * (v0 + v1))
+        uv = face.Surface.parameter(forward.valueAt(*mid))
+        if face.normalAt(*uv).dot(forward.normalAt(*mid)) < 0:
+            face.reverse()
     except Part.OCCError:
         return built
     if built.Orientation == "Reversed":

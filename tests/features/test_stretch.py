@@ -237,6 +237,39 @@ class StretchSolid(unittest.TestCase):
         self.assertIn("SplitFaces", self.doc.getObject(name).PropertiesList)
 
 
+class StretchRegionMap(unittest.TestCase):
+    def test_stepped_shaft_region_keeps_cylinders_and_scales_its_volume(self):
+        """Two planes across a step: the region goes through the stretch's space map. Its
+        cylinders along the normal stay cylinders (exact: MaxDeviation 0), and the volume
+        grows by the region's volume x Distance / gap (OCCT's transformGeometry was 0.7 %
+        off here: its circles are approximated)."""
+        doc = App.newDocument("StretchRegionMap")
+        try:
+            shaft = Part.makeCylinder(10, 100).fuse(
+                Part.makeCylinder(15, 30, App.Vector(0, 0, 40))).removeSplitter()
+            base = doc.addObject("Part::Feature", "Shaft")
+            base.Shape = shaft
+            obj = fd.make_stretch(base, (App.Vector(0, 0, 20), App.Vector(0, 0, 1)), 30,
+                                  plane2=(App.Vector(0, 0, 80), App.Vector(0, 0, 1)))
+            self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+            result = obj.Shape
+            self.assertTrue(result.isValid())
+            region = np.pi * (10 ** 2 * 60 + (15 ** 2 - 10 ** 2) * 30)   # z 20..80
+            self.assertAlmostEqual(result.Volume, shaft.Volume + region * 30 / 60,
+                                   delta=1e-9 * shaft.Volume)
+            kinds = sorted(type(f.Surface).__name__ for f in result.Faces)
+            self.assertEqual(kinds, ["Cylinder"] * 5 + ["Plane"] * 4, kinds)
+            self.assertEqual(obj.MaxDeviation, 0.0)
+            # the step's shoulder moved to where the map puts z = 70: 20 + 50 x 1.5
+            shoulder = [f for f in result.Faces if type(f.Surface).__name__ == "Plane"
+                        and abs(f.BoundBox.ZLength) < 1e-9 and f.Area < 1000 and
+                        60 < f.BoundBox.ZMin < 120]
+            self.assertEqual(len(shoulder), 1)
+            self.assertAlmostEqual(shoulder[0].BoundBox.ZMin, 95.0, delta=1e-9)
+        finally:
+            App.closeDocument(doc.Name)
+
+
 class StretchCompound(unittest.TestCase):
     """The AS1 assembly: 18 solids; each crossed solid stretched, the rest kept or moved."""
 
