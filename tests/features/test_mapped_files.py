@@ -71,7 +71,10 @@ class MappedFileFaces(unittest.TestCase):
         self.assertNotIn("Invalid", obj.State, obj.getStatusString())
         return obj.Shape
 
-    def check(self, solid):
+    def check(self, solid, band=0.0):
+        """`band`: how far a face's edges lie off its surface; a slice across it may fall
+        anywhere in that band, so a section's area is known to band x its perimeter only
+        (2e-4 mm here: up to 1.2e-5 of the area; which one OCCT finds depends on the fit)."""
         result = self.twisted(solid)
         self.assertTrue(result.isValid())
         self.assertEqual(len(result.Solids), 1)
@@ -79,7 +82,8 @@ class MappedFileFaces(unittest.TestCase):
         for z, turn in ((15.0, 15.0), (2.0, 0.0), (28.0, 30.0)):
             want = Part.makeFace(solid.slice(V(0, 0, 1), z), "Part::FaceMakerBullseye")
             got = Part.makeFace(result.slice(V(0, 0, 1), z), "Part::FaceMakerBullseye")
-            self.assertLess(abs(got.Area / want.Area - 1), 1e-6, z)
+            self.assertLess(abs(got.Area / want.Area - 1), 1e-6 + band * want.Length / want.Area,
+                            z)
             centre = App.Rotation(V(0, 0, 1), turn).multVec(want.CenterOfMass)
             # within the 2e-4 mm by which the offset face's slice and edges disagree
             self.assertLess((got.CenterOfMass - centre).Length, 1e-4, z)
@@ -100,7 +104,7 @@ class MappedFileFaces(unittest.TestCase):
         solid, face = waisted(offset_surface)
         self.assertTrue(solid.isValid())
         self.assertGreater(min(e.Tolerance for e in face.Edges), 1e-4)
-        self.check(solid)
+        self.check(solid, band=2e-4)
 
     def test_void_kept(self):
         """The wide sewing of a solid with a cavity gives its two shells."""
@@ -109,7 +113,7 @@ class MappedFileFaces(unittest.TestCase):
         solid = Part.makeSolid(Part.makeCompound([solid.Shells[0], cavity]))
         self.assertTrue(solid.isValid())
         self.assertEqual(len(solid.Shells), 2)
-        self.check(solid)
+        self.check(solid, band=2e-4)
         self.assertEqual(len(self.twisted(solid).Solids[0].Shells), 2)
 
     def test_face_short_of_its_surface_rectangle(self):
