@@ -6,7 +6,7 @@ need FreeCAD and are loaded on first use.
 __version__ = "0.1.0"
 
 _API = ("make_stretch", "make_bend", "make_twist", "make_taper", "make_dimension_drive",
-        "make_area_constrain", "make_direct_push", "solve")
+        "make_matching_drive", "make_area_constrain", "make_direct_push", "solve")
 __all__ = list(_API)
 
 

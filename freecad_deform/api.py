@@ -121,6 +121,14 @@ def _options(proxy_class, caller, options):
     return values
 
 
+def make_matching_drive(drive, other):
+    """The DimensionDrive `drive` applied to the matching plane or cylinder of the mesh (or
+    solid, or FEM mesh) `other`, its Target bound to drive's by an expression: one value
+    changes both parts, a bore and its shaft (Date & Onosato, Fig. 8)."""
+    from .features.dimension_drive import make_matching_drive as matching
+    return matching(drive, other)
+
+
 def make_dimension_drive(mesh_obj, kind, regions, target, **options):
     """Drive a dimension of `mesh_obj` (a mesh, or a solid tessellated with `tolerance`) to
     `target`. kind: "Distance" (regions: a point on the moving plane, one on the reference

@@ -9,6 +9,7 @@ import FreeCADGui as Gui
 
 from . import icon_path, selection
 from .task_panel import is_invalid, panel_class
+from .view_providers import feature_type
 
 
 class CommandBase:
@@ -200,6 +201,49 @@ def point_on_face(face, picked):
     return App.Vector(face.distToShape(Part.Vertex(face.CenterOfMass))[1][0][0])
 
 
+class MatchingDriveCommand(CommandBase):
+    NAME = "Deform_MatchingDrive"
+    TYPE = "DimensionDrive"
+    MENU_TEXT = "Drive matching region"
+    TOOL_TIP = ("Apply a DimensionDrive to the matching region of another part (a bore and "
+                "the shaft in it): the new drive's Target follows the first one's, so one "
+                "value changes both parts.\n"
+                "Select a DimensionDrive, then the mesh, solid or FEM mesh of the other part.")
+
+    def read_selection(self):
+        """(drive, other): a DimensionDrive and one other object, else None."""
+        try:
+            items = [i.Object for i in Gui.Selection.getSelectionEx()]
+            if len(items) != 2:
+                return None
+            drives = [o for o in items if feature_type(o) == "DimensionDrive"]
+            others = [o for o in items if o not in drives[:1]]
+            if not drives or len(others) != 1 or not (
+                    selection.base_kind(others[0]) in ("Mesh", "Part")
+                    or others[0].isDerivedFrom("Fem::FemMeshObject")):
+                return None
+            return drives[0], others[0]
+        except Exception:
+            return None
+
+    def Activated(self):
+        fits = self.read_selection()
+        if fits is None:
+            App.Console.PrintError(f"{self.MENU_TEXT}: {self.TOOL_TIP}\n")
+            return
+        from ..api import make_matching_drive
+        drive, other = fits
+        try:
+            obj = make_matching_drive(drive, other)
+        except Exception as e:
+            App.Console.PrintError(f"{self.MENU_TEXT}: {e}\n")
+            return
+        if obj.ViewObject is not None:
+            other.ViewObject.Visibility = False
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(obj)
+
+
 class AreaConstrainCommand(CommandBase):
     NAME = "Deform_AreaConstrain"
     TYPE = "AreaConstrain"
@@ -280,6 +324,7 @@ class DirectPushCommand(CommandBase):
 
 
 COMMANDS = [StretchCommand, BendCommand, TwistCommand, TaperCommand, DimensionDriveCommand,
+            MatchingDriveCommand,
             AreaConstrainCommand, DirectPushCommand]
 TOOLBAR = [c.NAME for c in COMMANDS]
 

@@ -121,3 +121,41 @@ def dimension_drive():
           and doc.UndoCount == undo0 and App.getActiveTransaction() is None)
     App.closeDocument(doc.Name)
     process(0.2)
+    matching_drive()
+
+
+def matching_drive():
+    """A block's bore and the shaft in it: a Radius drive on the bore, then the command on
+    the drive and the shaft: the shaft's drive follows the bore's Target."""
+    import MeshPart
+    import Part
+    import freecad_deform as fd
+    V = App.Vector
+    doc = App.newDocument("DeformMatchingTest")
+
+    def mesh(shape, name):
+        obj = doc.addObject("Mesh::Feature", name)
+        obj.Mesh = MeshPart.meshFromShape(Shape=shape, MaxLength=3.0)
+        return obj
+    block = mesh(Part.makeBox(100, 60, 30).cut(Part.makeCylinder(8, 30, V(50, 30, 0))), "Block")
+    shaft = mesh(Part.makeCylinder(8, 50, V(50, 30, -10)), "Shaft")
+    doc.recompute()
+    first = fd.make_dimension_drive(block, "Radius", [(58, 30, 15)], 9)
+    cmd = Gui.Command.get("Deform_MatchingDrive")
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(first)
+    check("Drive matching region: inactive with the drive alone", not cmd.isActive())
+    Gui.Selection.addSelection(shaft)
+    check("Drive matching region: active with a drive and a mesh", cmd.isActive())
+    cmd.run()
+    process(0.2)
+    made = [o for o in of_type(doc, "DimensionDrive") if o is not first]
+    first.Target = 9.5
+    doc.recompute()
+    ok = len(made) == 1 and made[0].Kind == "Radius" and "Invalid" not in made[0].State
+    check("Drive matching region: the shaft's drive follows the bore's Target (1e-6)",
+          ok and abs(made[0].Achieved - 9.5) < 1e-6 and abs(first.Achieved - 9.5) < 1e-6
+          and any(path == "Target" for path, _ in made[0].ExpressionEngine),
+          [(o.Name, o.Kind, o.Achieved, o.getStatusString()) for o in made])
+    App.closeDocument(doc.Name)
+    process(0.2)

@@ -133,6 +133,8 @@ def test_all_checks_pass(gui_run):
     "Twist handle: Plane lands where its handle was let go (1 px)",
     "Twist handle: the disc turns Angle by the angle swept in its plane (5 deg)",
     "Twist handles gone after Cancel",
+    "Drive matching region: active with a drive and a mesh",
+    "Drive matching region: the shaft's drive follows the bore's Target (1e-6)",
     "DimensionDrive: one undo step", "DimensionDrive: undo removes it",
     "DimensionDrive: Cancel leaves the document unchanged",
     "AreaConstrain: active with a face selected", "AreaConstrain: control net drawn while open",
