@@ -267,15 +267,20 @@ class TestRealSurfaces(AreaCase):
             self.assertAlmostEqual(graded_area(new, corner) /
                                    (1.03 * graded_area(face.Surface, corner)), 1, delta=1e-10)
 
-    def test_terrain_default_is_refused_naming_poles(self):
-        base = self.doc.addObject("Part::Feature", "Terrain")
+    def test_a_rational_terrain_with_default_poles_is_refused_naming_poles(self):
+        """Every interior pole of the terrain is solved matrix-free (the real-parts case
+        areaconstrain-occt_terrain-Face1-default, minutes); that solver takes non-rational
+        faces only, so one weight changed makes the default a refusal."""
         shape = Part.Shape()
         shape.read(fc.testdata("occt_terrain.brep"))
-        base.Shape = shape
+        surface = shape.Faces[0].Surface.copy()
+        surface.setWeight(156, 160, 0.9)
+        base = self.doc.addObject("Part::Feature", "Terrain")
+        base.Shape = Part.Face(surface)
         self.doc.recompute()
         obj = fd.make_area_constrain(base, "Face1", "101%")
         self.assertIn("Invalid", obj.State)
-        self.assertRegex(obj.getStatusString(), r"99510 poles .* list in Poles")
+        self.assertRegex(obj.getStatusString(), r"99510 poles .* non-rational .* list in Poles")
 
 
 if __name__ == "__main__":
