@@ -40,21 +40,13 @@ from freecad_deform.geometry import motion as mo  # noqa: E402
 from freecad_deform.geometry import space_map  # noqa: E402
 from freecad_deform.shapes import brep  # noqa: E402
 from freecad_deform.shapes.convert import points_from_array  # noqa: E402
+from tests.features.test_flex import fan as fan_solid  # noqa: E402  (the tests' fan)
 
 V = App.Vector
 Z = np.array([0.0, 0.0, 1.0])
 X = np.array([1.0, 0.0, 0.0])
 
 
-def fan(blades=5, pitch=12.0):
-    """A hub (r 10, 60 long along z) carrying pitched blades: no outline is constant."""
-    shape = Part.makeCylinder(10, 60)
-    for k in range(blades):
-        blade = Part.makeBox(25, 2, 50, V(8, -1, 5))
-        blade.rotate(V(0, 0, 30), V(1, 0, 0), pitch)
-        blade.rotate(V(0, 0, 0), V(0, 0, 1), 360.0 * k / blades)
-        shape = shape.fuse(blade)
-    return shape.removeSplitter().Solids[0]
 
 
 def occt_floor(solid, origin, normal, gap, result):
@@ -167,7 +159,7 @@ def main(argv=None):
         progress(start, ", ".join(f"{r[0]}: {seconds(r[3])} s" for r in new))
 
     # 1. Twist of the fan's middle 40 % by 20 deg
-    blades = fan()
+    blades = fan_solid().Solids[0]
     o, gap = np.array([0, 0, 18.0]), 24.0
     add([brep_row(timer, doc, "B-rep fan Twist 20 deg, middle 40 %", blades,
                   lambda b: fd.make_twist(b, (V(*o), V(*Z)), (V(*(o + gap * Z)), V(*Z)), 20.0),

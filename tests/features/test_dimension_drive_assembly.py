@@ -14,21 +14,14 @@ import Part  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.dimension_drive import make_matching_drive  # noqa: E402
 
+from ..geometry.fit_oracles import circle  # noqa: E402
+
 V = App.Vector
 
 
 def arrays(mesh):
     points, _ = mesh.Topology
     return np.array([tuple(p) for p in points])
-
-
-def circle(P):
-    """(centre xy, radius, largest deviation) of the vertical cylinder through P."""
-    xy = P[:, :2]
-    A = np.column_stack([2 * xy, np.ones(len(xy))])
-    (cx, cy, k), *_ = np.linalg.lstsq(A, (xy * xy).sum(1), rcond=None)
-    r = np.sqrt(k + cx * cx + cy * cy)
-    return np.array([cx, cy]), r, np.abs(np.hypot(xy[:, 0] - cx, xy[:, 1] - cy) - r).max()
 
 
 class TestAssembly(unittest.TestCase):

@@ -9,6 +9,7 @@ from freecad_deform.geometry.errors import DeformError
 from freecad_deform.geometry.mesh_regions import region_adjacency
 
 from .block_mesh import block_with_hole
+from .fit_oracles import circle, flips
 
 TOP, BOTTOM, WALL, HOLE = (50, 5, 30), (50, 5, 0), (50, 0, 15), (58, 30, 15)
 FRAME = dict(origin=(0, 0, 30), axis_point=(1, 0, 30))
@@ -18,21 +19,6 @@ FRAME = dict(origin=(0, 0, 30), axis_point=(1, 0, 30))
 def block():
     V, T = block_with_hole()
     return V, T, dd.DimensionModel(V, T, np.radians(40))
-
-
-def circle(points):
-    """Test's own algebraic circle fit in xy: (centre, radius, max deviation)."""
-    xy = points[:, :2]
-    A = np.column_stack([2 * xy, np.ones(len(xy))])
-    (cx, cy, k), *_ = np.linalg.lstsq(A, (xy * xy).sum(1), rcond=None)
-    r = np.sqrt(k + cx * cx + cy * cy)
-    return np.array([cx, cy]), r, np.abs(np.hypot(xy[:, 0] - cx, xy[:, 1] - cy) - r).max()
-
-
-def flips(V, X, T):
-    n0 = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
-    n1 = np.cross(X[T[:, 1]] - X[T[:, 0]], X[T[:, 2]] - X[T[:, 0]])
-    return int(np.count_nonzero(np.einsum("ij,ij->i", n0, n1) <= 0))
 
 
 def hole_vertices(V):
