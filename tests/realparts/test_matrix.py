@@ -10,8 +10,9 @@ from . import cases
 OPEN = {
 }
 SLOW = {
-    "areaconstrain-occt_terrain-Face1-default": "99,510 variables, +1 %: the solve about 6 "
-                                                "minutes, the oracle about 3",
+    "areaconstrain-occt_terrain-Face1-default": "99,510 variables, +1 %: passes, in 635 s "
+                                                "of CPU with its oracle (the solve 13 "
+                                                "Newton steps)",
     "areaconstrain-occt_terrain-Face1": "8 x 8 poles asked +0.01 % of the whole face (about "
                                         "10 % of the area they shape): Lagrange-Newton does "
                                         "not converge (refused after about 30 s)",
