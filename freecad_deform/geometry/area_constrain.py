@@ -281,7 +281,7 @@ def lagrange_newton(problem, target, start=None):
     when it stalls."""
     n = problem.D.shape[1]
     t, lam = (np.zeros(n), 0.0) if start is None else start
-    mu, residual = 0.0, np.inf
+    mu, residual, alpha = 0.0, np.inf, 1.0   # alpha: the last line search's step
     for it in range(1, MAX_ITERATIONS + 1):
         a, g = problem.gradient(t)
         c = a - target

@@ -20,7 +20,7 @@ def cli(*args, cwd=REPO, check=True, prefix=(sys.executable, "-m", "freecad_defo
     """Run the command line in its own process; returns the CompletedProcess."""
     env = dict(os.environ, PYTHONPATH=REPO, **({"HOME": str(home)} if home else {}))
     done = subprocess.run([*prefix, *map(str, args)], cwd=cwd, env=env, capture_output=True,
-                          text=True, timeout=600)
+                          encoding="utf-8", errors="replace", timeout=600)
     if check and done.returncode != 0:
         raise AssertionError(f"exit {done.returncode}\n{done.stdout}\n{done.stderr}")
     return done

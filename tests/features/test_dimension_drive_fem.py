@@ -195,7 +195,9 @@ class FemDriveCase(unittest.TestCase):
         from femsolver.calculix import writer
         from femtools import membertools
         analysis = ObjectsFem.makeAnalysis(self.doc, "Analysis")
-        solver = ObjectsFem.makeSolverCalculixCcxTools(self.doc)
+        make_solver = getattr(ObjectsFem, "makeSolverCalculiXCcxTools", None) or \
+            ObjectsFem.makeSolverCalculixCcxTools   # FreeCAD 1.1 spells it CalculiX
+        solver = make_solver(self.doc)
         material = ObjectsFem.makeMaterialSolid(self.doc, "Steel")
         values = material.Material
         values.update({"Name": "Steel", "YoungsModulus": "210000 MPa", "PoissonRatio": "0.3",

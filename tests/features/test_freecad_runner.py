@@ -12,6 +12,7 @@ def test_freecadcmd_runs_the_registered_tests():
         os.makedirs(os.path.join(home, mod))
         os.symlink(REPO, os.path.join(home, mod, "freecad_deform"))
     run = subprocess.run(["freecadcmd", "-t", "TestDeformApp"], cwd=home, capture_output=True,
-                         text=True, timeout=600, env=dict(os.environ, HOME=home))
+                         encoding="utf-8", errors="replace", timeout=600,
+                         env=dict(os.environ, HOME=home))
     out = run.stdout + run.stderr
     assert "\nOK" in out and "Ran " in out, out[-3000:]

@@ -76,15 +76,15 @@ def gui_run(tmp_path_factory):
     cmd = [xvfb, "-a", "-s", "-screen 0 1280x1024x24", freecad, SCENARIO]
     start = time.time()
     try:
-        proc = subprocess.run(cmd, env=env, cwd=str(home), capture_output=True, text=True,
-                              timeout=TIMEOUT)
+        proc = subprocess.run(cmd, env=env, cwd=str(home), capture_output=True,
+                              encoding="utf-8", errors="replace", timeout=TIMEOUT)
     except subprocess.TimeoutExpired as e:
         pytest.fail(f"FreeCAD GUI did not finish in {TIMEOUT} s\n{e.stdout}\n{e.stderr}")
     elapsed = time.time() - start
     log = f"exit {proc.returncode} after {elapsed:.1f} s\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}"
     if not os.path.exists(result_path):
         pytest.fail("the GUI scenario wrote no result\n" + log)
-    with open(result_path) as f:
+    with open(result_path, encoding="utf-8") as f:
         result = json.load(f)
     result["log"] = log
     result["elapsed"] = elapsed

@@ -329,7 +329,6 @@ def run_points(case, doc, floor):
     if case.feature == "Twist":
         errors["count"] = (abs(fill), 0.5)
     else:
-        from scipy.spatial import cKDTree
         s = (P - origin) @ n
         kept = np.vstack([P[s <= 0], orc.apply(motion, P[s > 0])])
         extra = out[len(P):]      # the fill follows the moved points

@@ -76,8 +76,8 @@ def run_case(case, timeout):
     start = time.monotonic()
     try:
         proc = subprocess.run([PYTHON, RUNNER, json.dumps(case)], capture_output=True,
-                              text=True, timeout=timeout, env={**os.environ, "QT_QPA_PLATFORM":
-                                                                "offscreen"})
+                              encoding="utf-8", errors="replace", timeout=timeout,
+                              env={**os.environ, "QT_QPA_PLATFORM": "offscreen"})
     except subprocess.TimeoutExpired:
         return "hang", {"problems": [f"hang: no answer in {timeout} s"]}, timeout
     seconds = time.monotonic() - start
