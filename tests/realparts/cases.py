@@ -544,7 +544,12 @@ def surface_cases():
             if model == "occt_terrain.brep" and feature == "AreaConstrain":
                 out.append(Case("areaconstrain-occt_terrain-Face1-default", "surface", model,
                                 feature, {"face": face, "ratio": 1.01}))
+                # 8 x 8 poles asked +0.01 % of the whole face, about 10 % of the area they
+                # shape: Lagrange-Newton does not converge, a refusal naming TargetArea
                 params.update(ratio=1.0001, poles=TERRAIN_POLES)
+                out.append(Case(f"{feature.lower()}-{_short(model)}-{face}", "surface", model,
+                                feature, params, "TargetArea"))
+                continue
             out.append(Case(f"{feature.lower()}-{_short(model)}-{face}", "surface", model,
                             feature, params))
     for face in AREA_FACES:

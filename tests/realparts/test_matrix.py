@@ -13,9 +13,6 @@ SLOW = {
     "areaconstrain-occt_terrain-Face1-default": "99,510 variables, +1 %: passes, in 635 s "
                                                 "of CPU with its oracle (the solve 13 "
                                                 "Newton steps)",
-    "areaconstrain-occt_terrain-Face1": "8 x 8 poles asked +0.01 % of the whole face (about "
-                                        "10 % of the area they shape): Lagrange-Newton does "
-                                        "not converge (refused after about 20 s)",
 }
 CASES = [pytest.param(c, marks=pytest.mark.xfail(strict=True, reason=OPEN[c.id]))
          if c.id in OPEN else
