@@ -99,6 +99,18 @@ class SplitSweepPanel(TaskPanelBase):
         form.addRow(box)
         return box
 
+    def add_use_axis(self, form):
+        """UseAxis (Twist, Taper): switched on with Axis never set, Axis starts from the
+        default axis (the Plane normal through the section's centroid), the result the
+        same; the Axis fields are enabled with it. Add the Axis group too."""
+        self.add_check(form, "UseAxis", self.on_use_axis)
+
+    def on_use_axis(self, checked):
+        self.axis.set_fields_enabled(checked)
+        if checked and self.obj.Axis.isIdentity():
+            self.obj.Axis = selection.default_twist_axis(self.obj.Base, self.obj.Plane)
+            self.reload()
+
     def add_choice(self, form, prop):
         """A combo box named `prop` with the enumeration property's values."""
         combo = QtGui.QComboBox()
@@ -156,6 +168,8 @@ class SplitSweepPanel(TaskPanelBase):
             box.setChecked(bool(getattr(obj, prop)))
         for prop, combo in self.choices.items():
             combo.setCurrentIndex(combo.findText(getattr(obj, prop)))
+        if "UseAxis" in self.checks:   # Pick axis also turns it on
+            self.axis.set_fields_enabled(bool(obj.UseAxis))
         if self.use_plane2 is not None:
             self.use_plane2.setChecked(bool(obj.UsePlane2))
         if self.plane2_offset is not None:
@@ -273,7 +287,10 @@ class SplitSweepPanel(TaskPanelBase):
         self.set_property("Axis", axis)
 
     def picked_axis(self, line):
-        """The Axis a picked line gives; Bend turns it to suit Angle."""
+        """The Axis a picked line gives (Bend turns it to suit Angle); with a UseAxis
+        field, picking a line also switches it on: the part turns or scales about it."""
+        if "UseAxis" in self.checks:
+            self.obj.UseAxis = True
         return selection.axis_through(line, self.obj.Plane)
 
     def on_pick_axis(self):

@@ -2,7 +2,6 @@
 UseAxis / Axis, Profile, Tolerance, and the results."""
 from PySide import QtGui
 
-from . import selection
 from .split_sweep_panel import SplitSweepPanel
 
 
@@ -21,7 +20,7 @@ class TaperPanel(SplitSweepPanel):
         self.add_check(form, "UseScaleXY", self.on_scale_xy)
         self.add_quantity(form, "ScaleX", "", 1e-6, 1e6)
         self.add_quantity(form, "ScaleY", "", 1e-6, 1e6)
-        self.add_check(form, "UseAxis", self.on_use_axis)
+        self.add_use_axis(form)
         layout.addLayout(form)
         self.add_axis(layout)
         form = QtGui.QFormLayout()
@@ -32,22 +31,9 @@ class TaperPanel(SplitSweepPanel):
     def load(self):
         super().load()
         self.on_scale_xy(bool(self.obj.UseScaleXY))
-        self.axis.set_fields_enabled(bool(self.obj.UseAxis))
 
     def on_scale_xy(self, checked):
         """Scale, or ScaleX and ScaleY: only the fields in use are enabled."""
         self.quantities["Scale"][0].setEnabled(not checked)
         for prop in ("ScaleX", "ScaleY"):
             self.quantities[prop][0].setEnabled(checked)
-
-    def on_use_axis(self, checked):
-        self.axis.set_fields_enabled(checked)
-        if checked and self.obj.Axis.isIdentity():  # never set: start from the default axis
-            self.obj.Axis = selection.default_twist_axis(self.obj.Base, self.obj.Plane)
-            self.reload()
-
-    def picked_axis(self, line):
-        """Picking a line also switches UseAxis on: the taper scales about it."""
-        axis = super().picked_axis(line)
-        self.obj.UseAxis = True
-        return axis

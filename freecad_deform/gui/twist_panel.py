@@ -2,7 +2,6 @@
 Samples, Profile, Tolerance, and the results."""
 from PySide import QtGui
 
-from . import selection
 from .split_sweep_panel import SplitSweepPanel
 from .task_panel import set_spin_value, spin_value
 
@@ -19,11 +18,7 @@ class TwistPanel(SplitSweepPanel):
         form = QtGui.QFormLayout()
         self.add_plane2_offset(form)
         self.angle = self.add_quantity(form, "Angle", "deg", -1e6, 1e6)
-        self.use_axis = QtGui.QCheckBox("UseAxis")
-        self.use_axis.setObjectName("UseAxis")
-        self.use_axis.setToolTip(self.obj.getDocumentationOfProperty("UseAxis"))
-        self.use_axis.toggled.connect(self.on_use_axis)
-        form.addRow(self.use_axis)
+        self.add_use_axis(form)
         layout.addLayout(form)
         self.add_axis(layout)
         form = QtGui.QFormLayout()
@@ -35,30 +30,6 @@ class TwistPanel(SplitSweepPanel):
     def load(self):
         super().load()
         set_spin_value(self.angle, self.obj.Angle.Value + 360.0 * self.obj.Turns)
-        self.use_axis.setChecked(bool(self.obj.UseAxis))
-        self.axis.set_fields_enabled(bool(self.obj.UseAxis))  # Pick axis also turns it on
-
-    def on_use_axis(self, checked):
-        if self._loading or self.closed:
-            return
-        obj = self.obj
-        self.axis.set_fields_enabled(checked)
-        try:
-            if checked and obj.Axis.isIdentity():
-                # never set: start from the axis the twist used so far
-                obj.Axis = selection.default_twist_axis(obj.Base, obj.Plane)
-            obj.UseAxis = bool(checked)
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        self.reload()
-        self.schedule_recompute()
-
-    def picked_axis(self, line):
-        """Picking a line also switches UseAxis on: the twist turns about it."""
-        axis = super().picked_axis(line)
-        self.obj.UseAxis = True
-        return axis
 
     def set_angle_dragged(self, degrees):
         self.set_total_angle(degrees)
