@@ -110,7 +110,20 @@ class BendCommand(CommandBase):
         return make_bend(base, plane, self.ANGLE, axis)
 
 
-class TwistCommand(CommandBase):
+class RegionCommand(CommandBase):
+    """Twist and Taper: the region between Plane and Plane2 (at 1/3 and 2/3 of the part's
+    longest side, or from a picked plane), about a picked line or the default axis;
+    subclasses implement make(base, plane, plane2, axis or None)."""
+
+    AXIS = True
+
+    def create(self, base, picked_plane, picked_axis=None):
+        plane, plane2 = selection.suggested_twist(base, picked_plane)
+        axis = None if picked_axis is None else selection.axis_through(picked_axis, plane)
+        return self.make(base, plane, plane2, axis)
+
+
+class TwistCommand(RegionCommand):
     NAME = "Deform_Twist"
     TYPE = "Twist"
     MENU_TEXT = "Twist"
@@ -120,17 +133,14 @@ class TwistCommand(CommandBase):
                 "Select one solid, mesh or point cloud, optionally with a planar face or a "
                 "datum plane that gives Plane and a straight edge or a datum line that gives "
                 "the axis (else the Plane normal through the section's centroid).")
-    AXIS = True
     ANGLE = 30.0
 
-    def create(self, base, picked_plane, picked_axis=None):
+    def make(self, base, plane, plane2, axis):
         from ..api import make_twist
-        plane, plane2 = selection.suggested_twist(base, picked_plane)
-        axis = None if picked_axis is None else selection.axis_through(picked_axis, plane)
         return make_twist(base, plane, plane2, self.ANGLE, axis)
 
 
-class TaperCommand(CommandBase):
+class TaperCommand(RegionCommand):
     NAME = "Deform_Taper"
     TYPE = "Taper"
     MENU_TEXT = "Taper"
@@ -140,13 +150,10 @@ class TaperCommand(CommandBase):
                 "Select one solid, mesh or point cloud, optionally with a planar face or a "
                 "datum plane that gives Plane and a straight edge or a datum line that gives "
                 "the axis (else the Plane normal through the section's centroid).")
-    AXIS = True
     SCALE = 0.8
 
-    def create(self, base, picked_plane, picked_axis=None):
+    def make(self, base, plane, plane2, axis):
         from ..api import make_taper
-        plane, plane2 = selection.suggested_twist(base, picked_plane)
-        axis = None if picked_axis is None else selection.axis_through(picked_axis, plane)
         return make_taper(base, plane, plane2, self.SCALE, axis)
 
 
