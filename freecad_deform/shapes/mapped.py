@@ -265,8 +265,8 @@ def _stretched_rectangle(face, smap):
 
 
 def _parallel(direction, normal, tol=1e-12):
-    d = np.array(tuple(direction), float)
-    return np.linalg.norm(np.cross(d / np.linalg.norm(d), _unit(np.asarray(normal)))) < tol
+    return np.linalg.norm(np.cross(_unit(np.array(tuple(direction), float)),
+                                   _unit(np.asarray(normal, float)))) < tol
 
 
 def _plane_of(built):
