@@ -21,6 +21,7 @@ class Prop(NamedTuple):
     doc: str
     default: Any = None
     output: bool = False
+    unit: str = ""  # an App::PropertyQuantity's unit ("deg"): a quantity without bounds
 
 
 def base_kind(base):
@@ -86,6 +87,24 @@ def check_finite(obj, properties):
                               f"infinity); give {p.name} a finite value.", p.name)
 
 
+def _keep_unit(obj, p):
+    """Give quantity property `p` its unit: FreeCAD saves a PropertyQuantity's value but
+    not its unit, and an older document may hold it as a bounded type (PropertyAngle
+    stops at 360 deg), which is replaced keeping its value and expression."""
+    import FreeCAD as App
+    if obj.getTypeIdOfProperty(p.name) != p.type:
+        value = getattr(obj, p.name).Value
+        expression = dict(obj.ExpressionEngine).get(p.name)
+        obj.removeProperty(p.name)
+        obj.addProperty(p.type, p.name, p.group, p.doc, OUTPUT if p.output else 0)
+        setattr(obj, p.name, App.Units.Unit(p.unit))
+        setattr(obj, p.name, value)
+        if expression:
+            obj.setExpression(p.name, expression)
+    elif getattr(obj, p.name).Unit != App.Units.Unit(p.unit):
+        setattr(obj, p.name, App.Units.Unit(p.unit))
+
+
 class DeformFeature:
     """Proxy base: properties added when missing (also on restore), JSON-only state.
 
@@ -135,8 +154,12 @@ class DeformFeature:
         existing = set(obj.PropertiesList)
         for p in self.PROPERTIES:
             if p.name in existing:
+                if p.unit:
+                    _keep_unit(obj, p)
                 continue
             obj.addProperty(p.type, p.name, p.group, p.doc, OUTPUT if p.output else 0)
+            if p.unit:
+                _keep_unit(obj, p)
             if p.default is not None:
                 setattr(obj, p.name, p.default)
 

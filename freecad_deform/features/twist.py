@@ -19,10 +19,11 @@ class Twist(DeformFeature):
         Prop("App::PropertyPlacement", "Plane2", "Planes",
              "Second separating plane, parallel to Plane and beyond it along the normal: the "
              "region between the planes twists."),
-        ss.ANGLE,
+        Prop("App::PropertyQuantity", "Angle", "Motion",
+             "How far the region twists about Axis (with Turns); any number of turns, where "
+             "an angle property would stop at 360 deg.", unit="deg"),
         Prop("App::PropertyInteger", "Turns", "Motion",
-             "Whole turns added to Angle: the region twists by Angle + 360 deg x Turns "
-             "(an angle property holds at most 360 deg).", 0),
+             "Whole turns added to Angle: the region twists by Angle + 360 deg x Turns.", 0),
         Prop("App::PropertyBool", "UseAxis", "Motion",
              "Twist about Axis; when false, about the Plane normal through the centroid of the "
              "cross-section at Plane.", False),

@@ -122,15 +122,26 @@ class ReliabilityTest(unittest.TestCase):
         self.assertIn("45 degrees", self.assert_refused(t, "Axis"))
 
     def test_twist_of_two_turns(self):
-        """make_twist(720) and Angle 0 + Turns 2 are one request: the far part back where it
-        was (a 720 deg turn), the volume kept, the section an eighth of the way along turned
-        by 90 deg (its bounding box 10 x 30 instead of 30 x 10). Infinite is refused."""
+        """make_twist(720), Angle 0 + Turns 2 and Angle set to 720 deg are one request: the
+        far part back where it was (a 720 deg turn), the volume kept, the section an eighth
+        of the way along turned by 90 deg (its bounding box 10 x 30 instead of 30 x 10).
+        Infinite is refused."""
         bar = self.doc.addObject("Part::Feature", "Bar")
         bar.Shape = Part.makeBox(30, 10, 100, V(-15, -5, 0))
         t = fd.make_twist(bar, (V(0, 0, 20), V(0, 0, 1)), (V(0, 0, 80), V(0, 0, 1)), 720)
         t.Samples = 96
         self.doc.recompute()
         self.assertEqual((t.Angle.Value, t.Turns), (0.0, 2))
+        self.assert_two_turns(t)
+        t.Turns = 0
+        t.Angle = 720  # held as given: an angle property would clamp it to 360
+        self.assertEqual(t.Angle.Value, 720.0)
+        self.doc.recompute()
+        self.assert_two_turns(t)
+        t2 = fd.make_twist(bar, (V(0, 0, 20), V(0, 0, 1)), (V(0, 0, 80), V(0, 0, 1)), INF)
+        self.assert_refused(t2, "Angle")
+
+    def assert_two_turns(self, t):
         self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
         self.assertAlmostEqual(t.Shape.Volume / 30000.0, 1.0, delta=1e-3)
         top = sorted(tuple(round(c, 6) for c in v.Point) for v in t.Shape.Vertexes
@@ -140,8 +151,28 @@ class ReliabilityTest(unittest.TestCase):
         box = Part.makeFace(wires, "Part::FaceMakerBullseye").BoundBox
         self.assertAlmostEqual(box.XLength, 10.0, delta=0.05)
         self.assertAlmostEqual(box.YLength, 30.0, delta=0.05)
-        t2 = fd.make_twist(bar, (V(0, 0, 20), V(0, 0, 1)), (V(0, 0, 80), V(0, 0, 1)), INF)
-        self.assert_refused(t2, "Angle")
+
+    def test_twist_angle_of_an_older_document(self):
+        """A document saved when Twist's Angle was a PropertyAngle (bounded at 360 deg) opens
+        with the unbounded quantity, its value and expression kept; the degree unit, which
+        FreeCAD does not save, is back after reopening."""
+        t = fd.make_twist(self.box, (V(10, 0, 0), V(1, 0, 0)), (V(30, 0, 0), V(1, 0, 0)), 40)
+        t.removeProperty("Angle")
+        t.addProperty("App::PropertyAngle", "Angle", "Motion", "")
+        t.setExpression("Angle", "30 deg + 20 deg")
+        self.doc.recompute()
+        path = os.path.join(tempfile.mkdtemp(), "old_twist.FCStd")
+        self.doc.saveAs(path)
+        name = t.Name
+        App.closeDocument(self.doc.Name)
+        self.doc = App.openDocument(path)
+        t = self.doc.getObject(name)
+        self.assertEqual(t.getTypeIdOfProperty("Angle"), "App::PropertyQuantity")
+        self.assertEqual(str(t.Angle.Unit), str(App.Units.Unit("deg")))
+        self.assertEqual(t.Angle.Value, 50.0)
+        self.assertEqual(dict(t.ExpressionEngine)["Angle"].replace(" ", ""), "30deg+20deg")
+        t.Angle = 400
+        self.assertEqual(t.Angle.Value, 400.0)
 
     def test_infinite_length_is_refused(self):
         """A PropertyLength clamps infinity to the largest float; that is refused as
