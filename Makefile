@@ -13,11 +13,11 @@ deps:
 	@.ci/install-deps
 
 test: deps
-	$(PY) -m pytest tests -v -p no:cacheprovider
+	$(PY) -m pytest deform_tests -v -p no:cacheprovider
 
-# GUI screenshots of this run go to tests/gui/_out/freecad-1.1/
+# GUI screenshots of this run go to deform_tests/gui/_out/freecad-1.1/
 test-freecad11:
-	.ci/chroot-test sid env DEFORM_GUI_OUT=$(CURDIR)/tests/gui/_out/freecad-1.1 make test
+	.ci/chroot-test sid env DEFORM_GUI_OUT=$(CURDIR)/deform_tests/gui/_out/freecad-1.1 make test
 
 demo: deps
 	$(PY) examples/demo.py demo_out
@@ -33,8 +33,8 @@ bench: deps
 
 # the real-parts matrix (issue 10) as a table: case, result, oracle error, seconds, OCCT floor
 realparts: deps
-	$(PY) -m tests.realparts.matrix
+	$(PY) -m deform_tests.realparts.matrix
 
 # the reliability campaign (issue 11): each case in its own process, classified; a table
 reliability: deps
-	$(PY) -m tests.reliability.campaign --per-feature 60
+	$(PY) -m deform_tests.reliability.campaign --per-feature 60

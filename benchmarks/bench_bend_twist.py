@@ -44,9 +44,9 @@ import Part  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.bend import bend_shape  # noqa: E402
 from freecad_deform.features.twist import twist_shape  # noqa: E402
-from freecad_deform.geometry import motion as mo  # noqa: E402
-from freecad_deform.geometry.mesh_sweep import map_between, sweep_mesh, twist_motion  # noqa: E402
-from freecad_deform.geometry.points_sweep import map_points_between, sweep_points  # noqa: E402
+from freecad_deform.geometry.sweep import motion as mo  # noqa: E402
+from freecad_deform.geometry.mesh.sweep import map_between, sweep_mesh, twist_motion  # noqa: E402
+from freecad_deform.geometry.points.sweep import map_points_between, sweep_points  # noqa: E402
 from freecad_deform.shapes import brep  # noqa: E402
 from freecad_deform.shapes.convert import points_from_array  # noqa: E402
 

@@ -34,8 +34,8 @@ from scipy.sparse import csr_matrix  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.dimension_drive import DEFAULT_FEATURE_ANGLE  # noqa: E402
-from freecad_deform.geometry import dimension_drive as dd  # noqa: E402
-from freecad_deform.geometry.dimension_handle import build_handle  # noqa: E402
+from freecad_deform.geometry.mesh import dimension_drive as dd  # noqa: E402
+from freecad_deform.geometry.mesh.dimension_handle import build_handle  # noqa: E402
 from freecad_deform.shapes.convert import mesh_arrays  # noqa: E402
 
 ANGLE = np.radians(DEFAULT_FEATURE_ANGLE)

@@ -30,7 +30,7 @@ import Fem  # noqa: E402
 from feminout import importInpMesh  # noqa: E402
 
 from freecad_deform.features.dimension_drive import DEFAULT_FEATURE_ANGLE  # noqa: E402
-from freecad_deform.geometry import volume_drive as vd  # noqa: E402
+from freecad_deform.geometry.mesh import volume_drive as vd  # noqa: E402
 from freecad_deform.shapes.fem import fem_arrays, fem_with_nodes  # noqa: E402
 
 CASES = (("wheelset radius", "sfepy_wheelset.vtk", Fem.read, [(0.0, 0.075, 0.0)], 0.08),

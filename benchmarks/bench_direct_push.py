@@ -29,11 +29,11 @@ import numpy as np  # noqa: E402
 import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
-from freecad_deform.geometry import direct_push as dp  # noqa: E402
+from freecad_deform.geometry.nurbs import direct_push as dp  # noqa: E402
 from freecad_deform.shapes import bspline  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(__file__))),
-                                "tests", "geometry"))
+                                "deform_tests", "geometry"))
 from canopy import canopy  # noqa: E402
 
 V = App.Vector
@@ -172,12 +172,12 @@ def real_rows(timer):
 
 def sweep_rows():
     """Every B-spline face of the cast housing pushed outward by 2 % of its size at the
-    inner point farthest from its edges (what tests/features/test_direct_push.py does on
+    inner point farthest from its edges (what deform_tests/features/test_direct_push.py does on
     five of them): per outcome the count, the median and largest recompute time and the
     largest landing error; every accepted result checked valid, closed and outward
     (OCCT's classifier halfway to the target)."""
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
-    from tests.features.test_direct_push import inner_point
+    from deform_tests.features.test_direct_push import inner_point
     shape = testdata("occt_Bottom.brep")
     doc = App.newDocument("BenchDirectPushSweep")
     base = doc.addObject("Part::Feature", "Base")

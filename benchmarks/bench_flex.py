@@ -36,11 +36,11 @@ import numpy as np  # noqa: E402
 import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
-from freecad_deform.geometry import motion as mo  # noqa: E402
-from freecad_deform.geometry import space_map  # noqa: E402
+from freecad_deform.geometry.sweep import motion as mo  # noqa: E402
+from freecad_deform.geometry.sweep import space_map  # noqa: E402
 from freecad_deform.shapes import brep  # noqa: E402
 from freecad_deform.shapes.convert import points_from_array  # noqa: E402
-from tests.features.test_flex import fan as fan_solid  # noqa: E402  (the tests' fan)
+from deform_tests.features.test_flex import fan as fan_solid  # noqa: E402  (the tests' fan)
 
 V = App.Vector
 Z = np.array([0.0, 0.0, 1.0])

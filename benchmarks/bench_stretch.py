@@ -46,8 +46,8 @@ import pstats  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.stretch import stretch_shape  # noqa: E402
-from freecad_deform.geometry.mesh_stretch import stretch_mesh  # noqa: E402
-from freecad_deform.geometry.points_stretch import stretch_points  # noqa: E402
+from freecad_deform.geometry.mesh.stretch import stretch_mesh  # noqa: E402
+from freecad_deform.geometry.points.stretch import stretch_points  # noqa: E402
 from freecad_deform.shapes import brep  # noqa: E402
 from freecad_deform.shapes.convert import points_from_array  # noqa: E402
 

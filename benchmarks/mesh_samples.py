@@ -49,9 +49,9 @@ import Part  # noqa: E402
 import Points  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
-from freecad_deform.features.split_sweep import MAX_SAMPLES  # noqa: E402
-from freecad_deform.geometry.mesh_sweep import map_between, twist_motion  # noqa: E402
-from freecad_deform.geometry.points_sweep import map_points_between  # noqa: E402
+from freecad_deform.features.planes import MAX_SAMPLES  # noqa: E402
+from freecad_deform.geometry.mesh.sweep import map_between, twist_motion  # noqa: E402
+from freecad_deform.geometry.points.sweep import map_points_between  # noqa: E402
 from freecad_deform.shapes.convert import mesh_arrays, mesh_eps  # noqa: E402
 
 V = App.Vector
@@ -95,7 +95,10 @@ def old_kernel(rev):
     package = importlib.util.module_from_spec(spec)
     sys.modules["deform_before"] = package
     spec.loader.exec_module(package)
-    return importlib.import_module("deform_before.geometry.mesh_sweep").map_between
+    try:
+        return importlib.import_module("deform_before.geometry.mesh.sweep").map_between
+    except ImportError:  # a revision before the kernels were grouped by domain
+        return importlib.import_module("deform_before.geometry.mesh_sweep").map_between
 
 
 def main(argv=None):
@@ -108,7 +111,7 @@ def main(argv=None):
     start = time.perf_counter()
     print(machine_line())
     print(runs_line(args, timer.runs))
-    print(f"MAX_SAMPLES (features/split_sweep.py): {MAX_SAMPLES}")
+    print(f"MAX_SAMPLES (features/planes.py): {MAX_SAMPLES}")
     doc = App.newDocument("MeshSamples")
     rows = []
     for name, mesh in meshes():

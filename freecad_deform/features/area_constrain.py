@@ -5,7 +5,7 @@ import FreeCAD as App
 import numpy as np
 import Part
 
-from ..geometry import area_constrain as ac
+from ..geometry.nurbs import area_constrain as ac
 from ..geometry.errors import DeformError
 from ..shapes import bspline
 from .base import DeformFeature, Prop

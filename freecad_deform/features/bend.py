@@ -1,13 +1,13 @@
 """Bend (Wu & Ilies): the far part turns about an axis; the gap is the section revolved."""
 import numpy as np
 
-from ..geometry import motion as mo
-from ..geometry import space_map
-from ..geometry.bend import bend_tangents, check_bend
+from ..geometry.sweep import motion as mo
+from ..geometry.sweep import space_map
+from ..geometry.sweep.bend import bend_tangents, check_bend
 from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, plane_arrays, points_from_array
 from . import flex
-from . import split_sweep as ss
+from . import planes as ss
 from .base import DeformFeature
 
 
@@ -42,7 +42,8 @@ class Bend(DeformFeature):
                         **ss.joint_report(shape, joints)}
 
     def _discrete(self, obj, kind, origin, normal, gap, axis_point, axis_direction, angle):
-        from ..geometry import mesh_sweep, points_sweep
+        from ..geometry.mesh import sweep as mesh_sweep
+        from ..geometry.points import sweep as points_sweep
         if gap is None:
             motion = mo.ScrewMotion(mo.rotation(axis_point, axis_direction, angle))
         else:

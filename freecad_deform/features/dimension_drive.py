@@ -12,8 +12,8 @@ import re
 import FreeCAD as App
 import numpy as np
 
-from ..geometry import dimension_drive as dd
-from ..geometry import volume_drive as vd
+from ..geometry.mesh import dimension_drive as dd
+from ..geometry.mesh import volume_drive as vd
 from ..geometry.errors import DeformError
 from ..shapes.convert import mesh_arrays, moved_mesh, tessellated
 from ..shapes.fem import fem_arrays, fem_with_nodes, is_fem_mesh
@@ -183,7 +183,7 @@ class DimensionDrive(DeformFeature):
 
 class DimensionDriveFem(DimensionDrive):
     """DimensionDrive on a FEM mesh of linear or quadratic tetrahedra: the boundary drives
-    the handle, the interior nodes follow by a harmonic extension (geometry.volume_drive);
+    the handle, the interior nodes follow by a harmonic extension (geometry.mesh.volume_drive);
     the result is a FEM mesh with the same nodes, elements, numbers and groups."""
 
     RESULT = "Fem::FemMeshObjectPython"

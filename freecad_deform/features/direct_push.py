@@ -16,7 +16,7 @@ import FreeCAD as App
 import numpy as np
 import Part
 
-from ..geometry import direct_push as dp
+from ..geometry.nurbs import direct_push as dp
 from ..geometry.errors import DeformError
 from ..shapes import bspline
 from .base import DeformFeature, Prop

@@ -1,7 +1,7 @@
 """What Twist, Bend and Taper share where the region between the planes goes through a
-space map (geometry.space_map): the Profile, Tolerance and MaxDeviation properties, and
+space map (geometry.sweep.space_map): the Profile, Tolerance and MaxDeviation properties, and
 the mapped B-rep with its outputs."""
-from ..geometry.space_map import PROFILES
+from ..geometry.sweep.space_map import PROFILES
 from .base import Prop
 
 PROFILE = Prop("App::PropertyEnumeration", "Profile", "Motion",

@@ -1,15 +1,15 @@
 """Stretch (Wu & Ilies, Cases 1 and 2): split at a plane, move the far part, fill the gap."""
 import numpy as np
 
-from ..geometry import motion as mo
-from ..geometry import space_map
+from ..geometry.sweep import motion as mo
+from ..geometry.sweep import space_map
 from ..geometry.errors import DeformError
-from ..geometry.points_stretch import stretch_points
-from ..geometry.polyline import FoldedSurface
+from ..geometry.points.stretch import stretch_points
+from ..geometry.nurbs.polyline import FoldedSurface
 from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
 from . import flex
-from . import split_sweep as ss
+from . import planes as ss
 from .base import DeformFeature, Prop
 
 
@@ -43,7 +43,7 @@ class Stretch(DeformFeature):
             return points_from_array(stretch_points(pts, origin, normal, distance, *second)), \
                 ignored
         if kind == "Mesh":
-            from ..geometry.mesh_stretch import stretch_mesh
+            from ..geometry.mesh.stretch import stretch_mesh
             v, t = mesh_arrays(obj.Base.Mesh)
             return ss.mesh_result(obj.Base.Mesh, *stretch_mesh(
                 v, t, origin, normal, distance, *second, eps=mesh_eps(v)))

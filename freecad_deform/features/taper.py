@@ -5,12 +5,12 @@ through the space map face by face (shapes.mapped), meshes and point clouds vert
 vertex, exactly."""
 import numpy as np
 
-from ..geometry import space_map
+from ..geometry.sweep import space_map
 from ..geometry.errors import DeformError
 from ..shapes import brep
 from ..shapes.convert import mesh_arrays, plane_arrays, points_from_array
 from . import flex
-from . import split_sweep as ss
+from . import planes as ss
 from .base import DeformFeature, Prop
 from .twist import section_centroid, section_centroid_mesh
 

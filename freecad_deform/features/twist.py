@@ -2,13 +2,13 @@
 axis; the part beyond Plane2 turns rigidly; length and cross-sections are kept."""
 import numpy as np
 
-from ..geometry import motion as mo
-from ..geometry import space_map
+from ..geometry.sweep import motion as mo
+from ..geometry.sweep import space_map
 from ..geometry.errors import DeformError
 from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, plane_arrays, points_from_array
 from . import flex
-from . import split_sweep as ss
+from . import planes as ss
 from .base import DeformFeature, Prop
 
 
@@ -50,7 +50,8 @@ class Twist(DeformFeature):
             section_centroid(brep.solids_of(shape), origin, normal), normal)
 
     def _discrete(self, obj, kind, origin, normal, gap, angle):
-        from ..geometry import mesh_sweep, points_sweep
+        from ..geometry.mesh import sweep as mesh_sweep
+        from ..geometry.points import sweep as points_sweep
         if kind == "Points":
             pts, ignored = ss.cloud(obj.Base)
             axis = given_axis(obj, normal) or (_cloud_centroid(pts, origin, normal), normal)
@@ -99,7 +100,7 @@ def section_centroid_mesh(mesh, origin, normal):
 
 
 def _cloud_centroid(points, origin, normal):
-    from ..geometry.points_stretch import section_band, spacing
+    from ..geometry.points.stretch import section_band, spacing
     s = (points - origin) @ normal
     near = points[section_band(s, 2 * spacing(points))]
     if len(near) == 0:

@@ -5,11 +5,11 @@ from PySide import QtGui
 
 from ..shapes.convert import plane_placement
 from . import selection
-from .split_sweep_panel import SplitSweepPanel
+from .planes_panel import PlanesPanel
 from .widgets import direction_of
 
 
-class BendPanel(SplitSweepPanel):
+class BendPanel(PlanesPanel):
     TYPE = "Bend"
     EDITABLE = ("Plane", "Angle", "Axis", "UsePlane2", "Plane2", "Samples", "Profile",
                 "Tolerance")

@@ -1,10 +1,10 @@
 """The Stretch task panel: Plane (origin, normal, or picked), Distance, UsePlane2 / Plane2."""
 from PySide import QtGui
 
-from .split_sweep_panel import SplitSweepPanel
+from .planes_panel import PlanesPanel
 
 
-class StretchPanel(SplitSweepPanel):
+class StretchPanel(PlanesPanel):
     TYPE = "Stretch"
     EDITABLE = ("Plane", "Distance", "UsePlane2", "Plane2")
     HANDLES = ("Plane", "Distance")

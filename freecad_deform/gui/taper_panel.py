@@ -2,10 +2,10 @@
 UseAxis / Axis, Profile, Tolerance, and the results."""
 from PySide import QtGui
 
-from .split_sweep_panel import SplitSweepPanel
+from .planes_panel import PlanesPanel
 
 
-class TaperPanel(SplitSweepPanel):
+class TaperPanel(PlanesPanel):
     TYPE = "Taper"
     EDITABLE = ("Plane", "Plane2", "Scale", "UseScaleXY", "ScaleX", "ScaleY", "UseAxis", "Axis",
                 "Profile", "Tolerance")

@@ -12,6 +12,7 @@ timer merges fast typing into one recompute), so the user sees the result while 
 Errors go to a red label in the panel, never to a dialog.
 """
 import importlib
+import re
 
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -25,10 +26,12 @@ ERROR_STYLE = f"QLabel {{ color: {ERROR_COLOR}; font-weight: bold; }}"
 
 
 def panel_class(obj):
-    """The task panel class of `obj`: <TYPE>Panel in freecad_deform.gui.<type>_panel."""
+    """The task panel class of `obj`: <Type>Panel in freecad_deform.gui.<type>_panel
+    (DimensionDrive: dimension_drive_panel)."""
     kind = feature_type(obj)
+    snake = re.sub(r"(?<!^)(?=[A-Z])", "_", kind).lower()
     try:
-        module = importlib.import_module(f"{__package__}.{kind.lower()}_panel")
+        module = importlib.import_module(f"{__package__}.{snake}_panel")
     except ImportError:
         return None
     return getattr(module, kind + "Panel", None)

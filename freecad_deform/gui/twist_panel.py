@@ -2,11 +2,11 @@
 Samples, Profile, Tolerance, and the results."""
 from PySide import QtGui
 
-from .split_sweep_panel import SplitSweepPanel
+from .planes_panel import PlanesPanel
 from .task_panel import set_spin_value, spin_value
 
 
-class TwistPanel(SplitSweepPanel):
+class TwistPanel(PlanesPanel):
     TYPE = "Twist"
     EDITABLE = ("Plane", "Plane2", "Angle", "Turns", "UseAxis", "Axis", "Samples", "Profile",
                 "Tolerance")

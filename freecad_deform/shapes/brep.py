@@ -4,7 +4,7 @@ import numpy as np
 import Part
 
 from ..geometry.errors import DeformError
-from ..geometry.planes import frame
+from ..geometry.sweep.planes import frame
 from .convert import vector  # noqa: F401  (re-exported for features)
 
 TOL = 1e-7

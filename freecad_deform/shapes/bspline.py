@@ -6,9 +6,9 @@ import numpy as np
 import Part
 from scipy.optimize import linear_sum_assignment
 
-from ..geometry.bspline_area import Surface
-from ..geometry import direct_push as dp
-from ..geometry.direct_push import Curve
+from ..geometry.nurbs.bspline_area import Surface
+from ..geometry.nurbs import direct_push as dp
+from ..geometry.nurbs.direct_push import Curve
 from ..geometry.errors import DeformError
 
 # surface types NurbsConvert represents exactly (rational B-splines)

@@ -3,7 +3,7 @@ import FreeCAD as App
 import numpy as np
 
 from ..geometry.errors import DeformError
-from ..geometry.planes import unit_normal
+from ..geometry.sweep.planes import unit_normal
 
 Z = App.Vector(0, 0, 1)
 

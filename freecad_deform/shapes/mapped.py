@@ -1,4 +1,4 @@
-"""A space map (geometry.space_map) applied to the B-rep of a region between two planes.
+"""A space map (geometry.sweep.space_map) applied to the B-rep of a region between two planes.
 
 The solid is split at both planes (as every split-sweep-join feature does). The near part
 stays, the far part moves by the map's end transform, and every face of the region goes
@@ -9,14 +9,15 @@ through the map:
 - under an affine map (a Linear stretch) a plane stays a Part.Plane through its mapped
   edges;
 - every other face: a B-spline fitted to the mapped points in the face's own (u, v)
-  parametrisation (geometry.surface_fit), the face rebuilt from its own pcurves.
+  parametrisation (geometry.nurbs.surface_fit), the face rebuilt from its own pcurves.
 The faces are sewn (with the cut faces left out) into one solid, voids kept. The largest
 deviation from the exact map is measured at points the fits did not use.
 """
 import numpy as np
 import Part
 
-from ..geometry import continuity, surface_fit
+from ..geometry.sweep import continuity
+from ..geometry.nurbs import surface_fit
 from ..geometry.errors import DeformError
 from . import brep, bspline
 from .convert import vector
@@ -388,7 +389,7 @@ def _closed_form(surface):
 
 def _bspline_form(surface):
     """Vectorised evaluation of a (rational) non-periodic B-spline surface."""
-    from ..geometry.surface_fit import design
+    from ..geometry.nurbs.surface_fit import design
     poles = np.array([[(p.x, p.y, p.z) for p in row] for row in surface.getPoles()])
     w = np.array(surface.getWeights(), float)
     uk = np.repeat(surface.getUKnots(), surface.getUMultiplicities())

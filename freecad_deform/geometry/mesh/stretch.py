@@ -1,0 +1,234 @@
+"""Stretch of a closed triangle mesh: split at the plane, sweep the section, join.
+
+Wu & Ilies 2011, "Shaping with deformations". The plane is a point and a normal that
+points toward the part that moves; s below is the signed distance to it. Meshes are
+vertices (N, 3) float and triangles (M, 3) int, counter-clockwise seen from outside.
+"""
+import itertools
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import DeformError
+from ..sweep.planes import parallel_gap, unit_normal
+
+
+def cut(vertices, triangles, origin, normal, eps=1e-9):
+    """Split every triangle that straddles the plane so each lies on one side of it.
+
+    Vertices with |s| <= eps are snapped onto the plane; each cut edge gets one new
+    vertex on the plane, shared by both its triangles, so a closed 2-manifold stays one.
+    Original vertices keep their indices (new ones are appended) and triangles their
+    orientation; the quadrilateral left by a cut is split along its shorter diagonal.
+    """
+    V, T = _arrays(vertices, triangles)
+    V, T, _ = _cut(V, T, np.asarray(origin, float), unit_normal(normal), eps)
+    return V, T
+
+
+def stretch_mesh(vertices, triangles, origin, normal, distance, origin2=None, normal2=None,
+                 eps=1e-9):
+    """The mesh stretched by `distance` along `normal`; returns (vertices, triangles).
+
+    One plane, distance > 0: the part beyond the plane moves by distance*normal and the
+    section is swept across the gap. distance < 0: the slab 0 < s < -distance is removed
+    and the far part moved back; the slab must have a constant cross-section. Two planes
+    (origin2 given; normal2 defaults to normal): the region between them is stretched
+    along the normal with its cross-sections kept, the part beyond Plane2 moved rigidly.
+    """
+    V, T = _arrays(vertices, triangles)
+    o, n, d = np.asarray(origin, float), unit_normal(normal), float(distance)
+    _check_crossing((V - o) @ n, eps, "Plane")
+    if d == 0:
+        return V, T
+    if origin2 is not None:
+        return _stretch_between(V, T, o, n, d, np.asarray(origin2, float),
+                                n if normal2 is None else normal2, eps)
+    if d > 0:
+        return _extend(V, T, o, n, d, eps)
+    return _shrink(V, T, o, n, -d, eps)
+
+
+def _arrays(vertices, triangles):
+    """Fresh (N, 3) float and (M, 3) int64 copies of the input."""
+    return (np.array(vertices, dtype=float).reshape(-1, 3),
+            np.array(triangles, dtype=np.int64).reshape(-1, 3))
+
+
+def _check_crossing(s, eps, prop):
+    """The plane must have part of the mesh on each side (on the plane counts for both)."""
+    if (s > eps).all() or (s < -eps).all():
+        raise DeformError(f"{prop} misses the part: the whole part lies on one side of it; "
+                          f"move {prop} so it crosses the part.", prop)
+
+
+def _directed(T):
+    """The directed edges of the triangles, T[:, j] -> T[:, j+1], flattened row by row."""
+    return T.ravel(), np.roll(T, -1, axis=1).ravel()
+
+
+def _cut(V, T, o, n, eps):
+    """`cut` on clean arrays; also returns s, exactly 0 for the vertices on the plane."""
+    N = len(V)
+    s = (V - o) @ n
+    on = np.abs(s) <= eps
+    V = V.copy()
+    V[on] -= s[on, None] * n
+    s[on] = 0.0
+    side = np.sign(s)[T]
+    crossing = side * np.roll(side, -1, axis=1) < 0          # edge j: vertex j -> j+1
+    split = crossing.any(axis=1)
+    Ts, cs = T[split], crossing[split]
+    ea, eb = Ts[cs], np.roll(Ts, -1, axis=1)[cs]
+    keys, inv = np.unique(np.minimum(ea, eb) * N + np.maximum(ea, eb), return_inverse=True)
+    lo, hi = keys // N, keys % N
+    t = s[lo] / (s[lo] - s[hi])
+    P = V[lo] + t[:, None] * (V[hi] - V[lo])
+    P -= ((P - o) @ n)[:, None] * n
+    P, inv = _merge_close(P, inv, eps)
+    W = np.concatenate([V, P])
+    new = np.full(Ts.shape, -1, dtype=np.int64)
+    new[cs] = N + inv
+    # Rotate each split triangle to start at its pivot: the lone vertex on one side when
+    # two edges cross, else the on-plane vertex opposite the one crossing edge.
+    two = cs.sum(axis=1) == 2
+    pivot = np.where(two, np.argmax(cs & np.roll(cs, 1, axis=1), axis=1),
+                     (np.argmax(cs, axis=1) + 2) % 3)
+    turn = (pivot[:, None] + np.arange(3)) % 3
+    a, b, c = np.take_along_axis(Ts, turn, axis=1).T
+    pab, pbc, pca = np.take_along_axis(new, turn, axis=1).T
+    a2, b2, c2, p, q = a[two], b[two], c[two], pab[two], pca[two]
+    short = np.linalg.norm(W[p] - W[c2], axis=1) <= np.linalg.norm(W[b2] - W[q], axis=1)
+    quad1 = np.where(short[:, None], np.stack([p, b2, c2], 1), np.stack([p, b2, q], 1))
+    quad2 = np.where(short[:, None], np.stack([p, c2, q], 1), np.stack([b2, c2, q], 1))
+    one = ~two
+    T = np.concatenate([T[~split], np.stack([a2, p, q], 1), quad1, quad2,
+                        np.stack([a[one], b[one], pbc[one]], 1),
+                        np.stack([a[one], pbc[one], c[one]], 1)])
+    flat = (T[:, 0] == T[:, 1]) | (T[:, 1] == T[:, 2]) | (T[:, 2] == T[:, 0])
+    return W, T[~flat], np.concatenate([s, np.zeros(len(P))])
+
+
+def _merge_close(P, inv, eps):
+    """New points closer than eps to each other become one (the first of each cluster).
+
+    A sliver triangle crossing the plane near its sharp tip puts its two cut points
+    almost together; stored apart they would make a needle facet (and in float32 one
+    point). Merged, the two facets on that tiny edge vanish (an edge collapse on the
+    plane) and the mesh stays a closed 2-manifold."""
+    if len(P) < 2:
+        return P, inv
+    pairs = cKDTree(P).query_pairs(eps, output_type="ndarray")
+    if not len(pairs):
+        return P, inv
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (len(P), len(P)))
+    _, label = connected_components(graph, directed=False)
+    first = np.full(label.max() + 1, len(P))
+    np.minimum.at(first, label, np.arange(len(P)))
+    keep, cluster = np.unique(first[label], return_inverse=True)
+    return P[keep], cluster.reshape(-1)[inv]
+
+
+def _seam(part, other, on):
+    """Directed edges (row, a, b) of `part` between vertices `on` the plane whose reverse
+    b -> a is an edge of `other`: where the two triangle sets meet."""
+    N = len(on)
+    a, b = _directed(part)
+    oa, ob = _directed(other)
+    mine = np.flatnonzero(on[a] & on[b])
+    theirs = on[oa] & on[ob]
+    hit = mine[np.isin(b[mine] * N + a[mine], oa[theirs] * N + ob[theirs])]
+    return hit // 3, a[hit], b[hit]
+
+
+def _extend(V, T, o, n, d, eps):
+    """Case distance > 0: the sweep by a translation along the normal, in one band."""
+    from .sweep import sweep_mesh  # it builds on this module's cut and seam
+    from ..sweep.motion import ScrewMotion, translation
+    return sweep_mesh(V, T, o, n, ScrewMotion(translation(d * n)), samples=1, eps=eps)
+
+
+def _stretch_between(V, T, o, n, d, o2, n2, eps):
+    """Case two planes: s -> s + clip(s/L, 0, 1)*distance, exact on each side of the cuts."""
+    L = parallel_gap(o, n, o2, n2)
+    if L + d <= 0:
+        raise DeformError(f"Distance {d:g} would collapse the region between Plane and Plane2 "
+                          f"({L:g} apart); keep Distance above {-L:g}.", "Distance")
+    _check_crossing((V - o2) @ n, eps, "Plane2")
+    V, T, s1 = _cut(V, T, o, n, eps)
+    V, T, s2 = _cut(V, T, o2, n, eps)
+    f = np.ones(len(V))
+    f[:len(s1)] = np.clip(s1 / L, 0.0, 1.0)
+    f[s2 >= 0] = 1.0
+    move = f > 0
+    V[move] += (f[move] * d)[:, None] * n
+    return V, T
+
+
+def _shrink(V, T, o, n, D, eps):
+    """Case distance < 0: drop the slab 0 < s < D, move the far part back and zip."""
+    s = (V - o) @ n
+    if not (s > D + eps).any():
+        raise DeformError(f"Distance {-D:g} shrinks past the end of the part, which reaches "
+                          f"{s.max():g} beyond Plane; reduce Distance to less than {s.max():g} "
+                          f"in size.", "Distance")
+    tol = 1e-9 * np.linalg.norm(V.max(axis=0) - V.min(axis=0))
+    V, T, s1 = _cut(V, T, o, n, eps)
+    V, T, s2 = _cut(V, T, o + D * n, n, eps)
+    s1 = np.concatenate([s1, np.full(len(V) - len(s1), D)])   # new vertices are on plane 2
+    is_near = (s1[T] <= 0).all(axis=1)
+    is_far = (s2[T] >= 0).all(axis=1) & ~is_near
+    near, far, slab = T[is_near], T[is_far], T[~(is_near | is_far)]
+    V[s2 >= 0] -= D * n
+    near_seam, far_seam = _seam(near, slab, s1 == 0), _seam(far, slab, s2 == 0)
+    near_pts, far_pts = np.unique(near_seam[1:]), np.unique(far_seam[1:])
+    near, near_ring = _insert(V, near, near_seam, far_pts, tol)
+    far, far_ring = _insert(V, far, far_seam, near_pts, tol)
+    dist, k = cKDTree(V[near_pts]).query(V[far_pts], distance_upper_bound=tol)
+    weld = np.arange(len(V))
+    weld[far_pts[dist <= tol]] = near_pts[k[dist <= tol]]
+    far, far_ring = weld[far], weld[far_ring]
+    N = len(V)
+    if not np.array_equal(np.sort(near_ring @ [N, 1]), np.sort(far_ring @ [1, N])):
+        raise DeformError(f"The cross-section changes between Plane and {D:g} beyond it; a mesh "
+                          f"can only be shrunk across a slab of constant cross-section, so move "
+                          f"Plane or reduce Distance.", "Distance")
+    used, T = np.unique(np.concatenate([near, far]), return_inverse=True)
+    return V[used], T.reshape(-1, 3)
+
+
+def _insert(V, tris, seam, points, tol):
+    """Split the seam edges of `tris` at the `points` lying inside them, so the seam has no
+    T-junction with them; each split triangle becomes a fan from its opposite corner.
+    Returns the triangles and the seam's directed sub-edges (k, 2)."""
+    rows, A, B = seam
+    axis = V[B] - V[A]
+    length = np.linalg.norm(axis, axis=1)
+    axis /= length[:, None]
+    nearby = cKDTree(V[points]).query_ball_point((V[A] + V[B]) / 2, length / 2 + tol)
+    edge = np.repeat(np.arange(len(A)), [len(c) for c in nearby])
+    p = points[np.fromiter(itertools.chain.from_iterable(nearby), np.int64, len(edge))]
+    rel = V[p] - V[A[edge]]
+    u = np.einsum("ij,ij->i", rel, axis[edge])                 # position along the edge
+    off = np.linalg.norm(rel - u[:, None] * axis[edge], axis=1)
+    inside = (off <= tol) & (u > tol) & (u < length[edge] - tol)
+    order = np.lexsort((u[inside], edge[inside]))
+    edge, p = edge[inside][order], p[inside][order]
+    split = np.unique(edge)
+    ring = np.c_[A, B][~np.isin(np.arange(len(A)), split)].tolist()
+    fans = {}
+    for e, pts in zip(split.tolist(), np.split(p, np.searchsorted(edge, split[1:]))):
+        a, b = int(A[e]), int(B[e])
+        chain = [a, *pts.tolist(), b]
+        ring += zip(chain, chain[1:])
+        fan = fans.setdefault(int(rows[e]), [tuple(tris[rows[e]].tolist())])
+        i = next(i for i, t in enumerate(fan) if (a, b) in zip(t, t[1:] + t[:1]))
+        c = next(v for v in fan[i] if v not in (a, b))
+        fan[i:i + 1] = [(c, x, y) for x, y in zip(chain, chain[1:])]
+    keep = np.ones(len(tris), bool)
+    keep[list(fans)] = False
+    extra = np.array([t for fan in fans.values() for t in fan], dtype=np.int64)
+    return (np.concatenate([tris[keep], extra.reshape(-1, 3)]),
+            np.array(ring, dtype=np.int64).reshape(-1, 2))

@@ -1,0 +1,350 @@
+"""Bend, twist and general rigid motions on closed triangle meshes (Wu & Ilies 2011).
+
+Case 1 (`sweep_mesh`, one plane): the mesh is cut at the plane (mesh_stretch.cut), the far
+part moved by M(1) and the gap filled with the section ring swept through `samples` + 1
+configurations M(i/samples). Case 2 (`map_between`, two parallel planes): the region between
+the planes is cut into `samples` slabs and each vertex mapped by the motion at its fraction of
+the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float and triangles
+(M, 3) int, counter-clockwise seen from outside; s is the signed distance to Plane.
+"""
+import numpy as np
+
+from ..errors import DeformError
+from .stretch import _arrays, _check_crossing, _cut, _seam
+from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
+from ..sweep.planes import unit_normal
+
+
+def _check_samples(samples):
+    if isinstance(samples, bool) or not float(samples).is_integer() or samples < 1:
+        raise DeformError(f"Samples must be a whole number of at least 1 (it is {samples}); "
+                          f"raise Samples.", "Samples")
+    return int(samples)
+
+
+def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9):
+    """Case 1 with a rigid motion (e.g. a ScrewMotion for a bend); returns (vertices, triangles).
+
+    The mesh is cut at the plane; triangles with every vertex at s <= 0 (after snapping
+    |s| <= eps onto the plane) stay bit-identical; the others are moved by motion.matrix(1),
+    on-plane vertices they share with the near part duplicated first. The gap between the
+    section ring and its moved copy is filled by the rings M(i/samples) (section ring),
+    i = 0..samples, consecutive rings joined by two triangles per seam edge as in the
+    stretch band (which this is for a translation and samples = 1). Closed 2-manifold in,
+    closed 2-manifold out (self-intersection is not checked beyond the test below).
+
+    The motion must carry every section vertex toward the moving side at t = 0
+    (velocity . normal > 0), else the band would fold back through the fixed part: a
+    DeformError names Axis (the axis crosses the section) or Angle (it all turns backward).
+    """
+    V, T = _arrays(vertices, triangles)
+    o, n = np.asarray(origin, float), unit_normal(normal)
+    samples = _check_samples(samples)
+    _check_crossing((V - o) @ n, eps, "Plane")
+    V, T, s = _cut(V, T, o, n, eps)
+    is_far = (s[T] > 0).any(axis=1)
+    near, far = T[~is_far], T[is_far]
+    near_used = np.zeros(len(V), bool)
+    near_used[near] = True
+    far_used = np.zeros(len(V), bool)
+    far_used[far] = True
+    dup = np.flatnonzero(near_used & far_used)
+    N = len(V)
+    copy = np.arange(N)
+    copy[dup] = N + np.arange(len(dup))
+    _, a, b = _seam(far, near, s == 0)
+    ring = np.unique(np.concatenate([a, b]))
+    if len(ring):
+        _check_no_fold(motion.velocity(V[ring], 0.0), n)
+    # ring level i of the seam vertices: themselves (i = 0), their copies (i = samples),
+    # else appended level by level; one quad (two triangles) per seam edge and level
+    ts = np.arange(1, samples) / samples
+    inner = apply(motion.matrices(ts), V[ring]).reshape(-1, 3) if samples > 1 else np.empty((0, 3))
+    base = N + len(dup)
+    levels = np.concatenate([ring[None], base + np.arange((samples - 1) * len(ring)).reshape(
+        samples - 1, len(ring)), copy[ring][None]])
+    A, B = levels[:, np.searchsorted(ring, a)], levels[:, np.searchsorted(ring, b)]
+    band = np.stack([np.stack([A[:-1], B[:-1], B[1:]], -1),
+                     np.stack([A[:-1], B[1:], A[1:]], -1)], 1).reshape(-1, 3)
+    T = np.concatenate([near, copy[far], band])
+    V = np.concatenate([V, V[dup], inner])
+    move = np.zeros(len(V), bool)
+    move[:N] = far_used & ~near_used
+    move[N:base] = True
+    V[move] = apply(motion.matrix(1.0), V[move])
+    return V, T
+
+
+def _check_no_fold(velocity, n):
+    vn = velocity @ n
+    tol = 1e-9 * max(float(np.linalg.norm(velocity, axis=1).max()), 1e-300)
+    if (vn <= tol).all():
+        raise DeformError("The motion carries the section back into the fixed part instead of "
+                          "away from it; change the sign of Angle (or turn the Plane normal "
+                          "toward the part that moves).", "Angle")
+    if (vn <= tol).any():
+        raise DeformError("The axis crosses or touches the section at Plane, so the swept "
+                          "section would fold through the part; move Axis off the section.",
+                          "Axis")
+
+
+def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=16, eps=1e-9):
+    """Case 2 (twist; bend with two planes); returns (vertices, triangles).
+
+    Plane2 is parallel to Plane at s = gap. The mesh is cut at s = 0, s = gap and the
+    samples - 1 planes between (`slab_cut`, so no triangle spans two slabs); vertices with
+    s <= 0 stay bit-identical (those within eps of a plane are snapped onto it first), those
+    with s >= gap are moved by motion_of_s(1.0), those between by motion_of_s(s / gap)
+    (exactly i / samples on the i-th plane). motion_of_s: fraction -> 4x4 (see
+    motion.fraction_matrices; `twist_motion`, `bend_motion` or a motion object). Only the
+    cuts change the topology; closed stays closed. The mesh between the planes follows the
+    map only at its vertices: the triangles are flat, so a curved map is sampled `samples`
+    times across the gap. The cost is linear in samples and in the triangles.
+    """
+    V, T = _arrays(vertices, triangles)
+    o, n = np.asarray(origin, float), unit_normal(normal)
+    gap = _check_gap(gap)
+    samples = _check_samples(samples)
+    if gap / samples <= 2 * eps:
+        raise DeformError(f"{samples} Samples put the cutting planes closer than the tolerance "
+                          f"in a gap of {gap:g}; lower Samples.", "Samples")
+    if not np.isfinite(V).all():
+        raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
+                          "infinity); repair or replace the Base mesh.", "Base")
+    s = (V - o) @ n
+    _check_crossing(s, eps, "Plane")
+    _check_crossing(s - gap, eps, "Plane2")
+    V, T, plane_of = slab_cut(V, T, o, n, gap, samples, eps)
+    f = np.clip(((V - o) @ n) / gap, 0.0, 1.0)
+    on = plane_of >= 0
+    f[on] = plane_of[on] / samples
+    move = f > 0
+    fractions, which = np.unique(f[move], return_inverse=True)   # a plane's points share one
+    V[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)], V[move])
+    return V, T
+
+
+def slab_cut(V, T, o, n, gap, samples, eps):
+    """The mesh cut at the planes s = gap * j / samples, j = 0..samples, all at once.
+
+    Returns (vertices, triangles, plane_of): plane_of[v] is the plane vertex v lies on, -1
+    for none. Vertices within eps of a plane are snapped onto it; every edge gets one new
+    vertex per plane it crosses (shared by its two triangles, so closed stays closed), and
+    the cut points joined by a section segment shorter than eps are merged. A triangle
+    crossing k planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane):
+    sorted by level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c
+    on the other are zipped from a to c, each quadrilateral between two planes split along
+    its shorter diagonal. The cost is linear in the output (no triangle is cut twice).
+    Original vertices keep their indices, new ones are appended; orientation is kept.
+    """
+    N = len(V)
+    V = V.copy()
+    h = gap / samples
+    s = (V - o) @ n
+    j = np.clip(np.rint(s / h), 0, samples)
+    d = s - gap * j / samples
+    on = np.abs(d) <= eps
+    V[on] -= d[on, None] * n
+    s[on] -= d[on]
+    plane_of = np.where(on, j, -1).astype(np.int64)
+    # level in plane units, exact on the planes; clipped so that floor/ceil stay integers
+    u = np.clip(np.where(on, j, s / h), -1.0, samples + 1.0)
+    order = np.argsort(u[T], axis=1, kind="stable")
+    a, b, c = np.take_along_axis(T, order, axis=1).T
+    ua, ub, uc = u[a], u[b], u[c]
+    f_ac, n_ac = _planes_between(ua, uc, samples)
+    cross = n_ac > 0
+    if not cross.any():
+        return V, T, plane_of
+    keep = T[~cross]
+    a, b, c, ua, ub, uc = a[cross], b[cross], c[cross], ua[cross], ub[cross], uc[cross]
+    odd = (order[cross, 1] - order[cross, 0]) % 3 != 1      # sorting reversed orientation
+    f_ac, n_ac = f_ac[cross], n_ac[cross]
+    f_ab, n_ab = _planes_between(ua, ub, samples)
+    f_bc, n_bc = _planes_between(ub, uc, samples)
+
+    # one new vertex per (edge, plane): the edges keyed by their sorted vertex indices
+    lo = np.concatenate([a, b, a])
+    hi = np.concatenate([b, c, c])
+    _, first, inv = np.unique(np.minimum(lo, hi) * N + np.maximum(lo, hi),
+                              return_index=True, return_inverse=True)
+    m = len(a)
+    e_ab, e_bc, e_ac = np.split(inv.reshape(-1), 3)
+    e_first = np.concatenate([f_ab, f_bc, f_ac])[first]
+    e_count = np.concatenate([n_ab, n_bc, n_ac])[first]
+    e_start = np.cumsum(e_count) - e_count
+    p, q = lo[first], hi[first]
+    edge, k = _ranges(e_count)
+    jp = e_first[edge] + k
+    level = gap * jp / samples
+    dp, dq = s[p[edge]] - level, s[q[edge]] - level
+    P = V[p[edge]] + (dp / (dp - dq))[:, None] * (V[q[edge]] - V[p[edge]])
+    P -= ((P - o) @ n - level)[:, None] * n
+
+    def raw(e, jj):                       # index in P of edge e's point on plane jj
+        return e_start[e] + jj - e_first[e]
+
+    # the section segments: on each plane a triangle crosses, its long chain's point to its
+    # short chain's (b itself when b lies on that plane)
+    t, i = _ranges(n_ac)
+    jj = f_ac[t] + i
+    short = np.where(jj < ub[t], raw(e_ab[t], jj), raw(e_bc[t], jj))
+    seg = np.stack([raw(e_ac[t], jj), short], 1)[jj != ub[t]]
+    P, label = _merge_segments(P, seg, eps)
+    W = np.concatenate([V, P])
+    plane_of = np.concatenate([plane_of, np.empty(len(P), np.int64)])
+    plane_of[N + label] = jp
+
+    def point(e, jj):
+        return N + label[raw(e, jj)]
+
+    # the events of each triangle (the vertices of its two chains after a) in level order,
+    # ties put the long chain (a -> c) first
+    count = n_ab + n_bc + n_ac + 3
+    offset = np.cumsum(count) - count
+    E = int(count.sum())
+    vert = np.empty(E, np.int64)
+    long = np.zeros(E, bool)
+    lvl = np.empty(E)
+
+    def place(t, pos, v, lv, is_long):
+        g = offset[t] + pos
+        vert[g], lvl[g], long[g] = v, lv, is_long
+
+    def below(jj, first_, count_):        # how many of a chain's planes lie below jj
+        return np.clip(jj - first_, 0, count_)
+
+    t, i = _ranges(n_ac)                  # the long chain's cut points, then c
+    jj = f_ac[t] + i
+    place(t, i + below(jj, f_ab[t], n_ab[t]) + (ub[t] < jj) + below(jj, f_bc[t], n_bc[t]),
+          point(e_ac[t], jj), jj, True)
+    t = np.arange(m)
+    place(t, n_ac + n_ab + (ub < uc) + n_bc, c, uc, True)
+    t, i = _ranges(n_ab)                  # the short chain: cut points of ab, b, of bc, c
+    jj = f_ab[t] + i
+    place(t, i + below(jj + 1, f_ac[t], n_ac[t]), point(e_ab[t], jj), jj, False)
+    t = np.arange(m)
+    place(t, n_ab + below(np.floor(ub).astype(np.int64) + 1, f_ac, n_ac) + (uc <= ub), b, ub,
+          False)
+    t, i = _ranges(n_bc)
+    jj = f_bc[t] + i
+    place(t, n_ab[t] + 1 + i + below(jj + 1, f_ac[t], n_ac[t]), point(e_bc[t], jj), jj, False)
+    t = np.arange(m)
+    place(t, count - 1, c, uc, False)
+
+    # each event closes the triangle (current long-chain vertex, current short-chain
+    # vertex, the event's vertex); the current vertices start at a
+    tri = np.repeat(np.arange(m), count)
+    idx = np.arange(E)
+    start = offset[tri]
+    last_long = np.maximum.accumulate(np.where(long, idx, -1))
+    last_short = np.maximum.accumulate(np.where(long, -1, idx))
+    prev_long = np.concatenate([[-1], last_long[:-1]])
+    prev_short = np.concatenate([[-1], last_short[:-1]])
+    cur_long = np.where(prev_long >= start, vert[np.maximum(prev_long, 0)], a[tri])
+    cur_short = np.where(prev_short >= start, vert[np.maximum(prev_short, 0)], a[tri])
+    new = np.stack([cur_long, cur_short, vert], 1)
+    # a long event followed by a short one on the same level closes a quadrilateral
+    # (Lp, Sp, Sj, Lj) split along Sp-Lj; take Lp-Sj instead when it is shorter
+    x = np.flatnonzero(long[:-1] & ~long[1:] & (tri[:-1] == tri[1:]) & (lvl[:-1] == lvl[1:]))
+    Lp, Sp, Lj, Sj = cur_long[x], cur_short[x], vert[x], vert[x + 1]
+    flip = np.linalg.norm(W[Lp] - W[Sj], axis=1) < np.linalg.norm(W[Sp] - W[Lj], axis=1)
+    x, Lp, Sp, Lj, Sj = x[flip], Lp[flip], Sp[flip], Lj[flip], Sj[flip]
+    new[x] = np.stack([Lp, Sp, Sj], 1)
+    new[x + 1] = np.stack([Lp, Sj, Lj], 1)
+    rev = odd[tri]
+    new[rev] = new[rev][:, ::-1]
+    T = np.concatenate([keep, new])
+    flat = (T[:, 0] == T[:, 1]) | (T[:, 1] == T[:, 2]) | (T[:, 2] == T[:, 0])
+    return W, T[~flat], plane_of
+
+
+def _merge_segments(P, segments, eps):
+    """Cut points joined by a section segment shorter than eps become one (the first of
+    each chain): returns (points kept, the kept index of every point). A sliver triangle
+    crossing a plane near its sharp tip puts its two cut points almost together; stored
+    apart they would make a needle facet (and in float32 one point). Merged, the two facets
+    on that tiny edge vanish (an edge collapse on the plane) and the mesh stays a closed
+    2-manifold."""
+    short = segments[np.linalg.norm(P[segments[:, 0]] - P[segments[:, 1]], axis=1) <= eps]
+    if not len(short):
+        return P, np.arange(len(P))
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    nodes, pair = np.unique(short, return_inverse=True)
+    pair = pair.reshape(-1, 2)
+    graph = coo_matrix((np.ones(len(pair)), (pair[:, 0], pair[:, 1])), (len(nodes),) * 2)
+    _, chain = connected_components(graph, directed=False)
+    first = np.full(chain.max() + 1, len(P))
+    np.minimum.at(first, chain, nodes)
+    target = np.arange(len(P))
+    target[nodes] = first[chain]
+    keep = target == np.arange(len(P))
+    return P[keep], (np.cumsum(keep) - 1)[target]
+
+
+def _planes_between(lo, hi, samples):
+    """(first, count) of the planes j = 0..samples strictly between the levels lo <= hi."""
+    first = np.floor(lo).astype(np.int64) + 1
+    first = np.maximum(first, 0)
+    last = np.minimum(np.ceil(hi).astype(np.int64) - 1, samples)
+    return first, np.maximum(last - first + 1, 0)
+
+
+def _ranges(counts):
+    """(owner, index) for counts: owner i repeated counts[i] times, index 0..counts[i]-1."""
+    owner = np.repeat(np.arange(len(counts)), counts)
+    return owner, np.arange(len(owner)) - (np.cumsum(counts) - counts)[owner]
+
+
+def _check_gap(gap):
+    gap = float(gap)
+    if not np.isfinite(gap) or gap <= 0:
+        raise DeformError("Plane2 must lie beyond Plane along its normal (on the moving side); "
+                          "move Plane2.", "Plane2")
+    return gap
+
+
+def _vectorized(fn):
+    fn.vectorized = True
+    return fn
+
+
+def twist_motion(origin, normal, gap, angle, axis_point=None, axis_direction=None):
+    """f(frac) -> 4x4 taking the section at s = frac*gap to its twisted place: a rotation by
+    frac*angle (radians) about the axis (default: the Plane normal through `origin`). No
+    translation, so the length along the axis is kept. f also takes an array of fractions
+    (K,) and then returns (K, 4, 4)."""
+    n = unit_normal(normal)
+    _check_gap(gap)
+    point = np.asarray(origin if axis_point is None else axis_point, float)
+    direction = n if axis_direction is None else axis_direction
+    rotation(point, direction, 0.0)                       # checks the direction now
+    angle = float(angle)
+
+    @_vectorized
+    def motion_of_s(frac):
+        return rotation(point, direction, np.asarray(frac, float) * angle)
+
+    return motion_of_s
+
+
+def bend_motion(axis_point, axis_direction, angle, origin, normal, gap):
+    """f(frac) -> 4x4 for a bend between two planes: the section at s = frac*gap goes to the
+    place of the section at s = 0 turned by frac*angle about the axis (which should lie in
+    Plane, outside the section): rotation(frac*angle) @ translation(-frac*gap*normal).
+    The slab becomes the section at Plane revolved by `angle`; the part beyond Plane2 is moved
+    by f(1). Vectorized like twist_motion."""
+    n = unit_normal(normal)
+    gap = _check_gap(gap)
+    point = np.asarray(axis_point, float)
+    rotation(point, axis_direction, 0.0)
+    angle = float(angle)
+
+    @_vectorized
+    def motion_of_s(frac):
+        f = np.asarray(frac, float)
+        return rotation(point, axis_direction, f * angle) @ translation(
+            -(f * gap)[..., None] * n)
+
+    return motion_of_s

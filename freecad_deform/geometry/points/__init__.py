@@ -1,0 +1,1 @@
+"""Point clouds: stretch and sweep of points, their spacing and section bands."""

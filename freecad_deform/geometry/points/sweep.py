@@ -1,0 +1,79 @@
+"""Bend, twist and general rigid motions on point clouds (Wu & Ilies 2011, section 3).
+
+The rigid parts are moved exactly; in Case 1 the gap is filled with the section points moved
+by sampled configurations of the motion, as in the paper's point-cloud examples.
+"""
+import numpy as np
+
+from ..errors import DeformError
+from ..sweep.motion import apply, apply_each, fraction_matrices
+from ..sweep.planes import signed_distance, unit_normal
+from .stretch import section_band, spacing
+
+_TOUCH = 1e-9          # points this close to a plane count as on it (as the mesh kernels' eps)
+_PATH_SAMPLES = 2049   # samples of the centroid's trajectory to measure its length
+
+
+def _check_crossing(s, prop):
+    """The plane must have points on each side (points on the plane count for both)."""
+    if (s > _TOUCH).all() or (s < -_TOUCH).all():
+        raise DeformError(f"{prop} misses the part: every point is on one side of it; "
+                          f"move {prop} so it crosses the part.", prop)
+
+
+def sweep_points(points, origin, normal, motion, step=None):
+    """Case 1 on a cloud: returns the moved points (input order) followed by the fill.
+
+    Points with s <= 0 are returned bit-identical, points with s > 0 moved by
+    motion.matrix(1). The section (points with |s| <= step/2, or the nearest layer, see
+    points_stretch.section_band, projected onto the plane) is
+    copied by motion.matrix(t_k), the t_k in (0, 1) spaced so that consecutive copies of the
+    section's centroid are `step` apart along its trajectory (measured on 2049 samples);
+    step defaults to the cloud's spacing (points_stretch.spacing). For a translation along
+    the normal this is stretch_points' fill. A motion that leaves the centroid in place
+    (a turn about an axis through it) adds no fill.
+    """
+    pts = np.asarray(points, float).reshape(-1, 3)
+    n = unit_normal(normal)
+    s = signed_distance(pts, origin, n)
+    _check_crossing(s, "Plane")
+    step = spacing(pts) if step is None else float(step)
+    if not np.isfinite(step) or step <= 0:
+        raise DeformError(f"The fill step must be a positive length (it is {step:g}); "
+                          f"give a positive Step.", "Step")
+    out = pts.copy()
+    far = s > _TOUCH
+    out[far] = apply(motion.matrix(1.0), pts[far])
+    near = section_band(s, step)
+    section = pts[near] - s[near, None] * n
+    if len(section) == 0:
+        return out
+    dense = np.linspace(0.0, 1.0, _PATH_SAMPLES)
+    path = apply(np.asarray(motion.matrices(dense)), section.mean(axis=0)[None])[:, 0]
+    length = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
+    layers = max(int(np.ceil(length[-1] / step - 1e-9)), 1)
+    if layers == 1:
+        return out
+    ts = np.interp(np.arange(1, layers) * (length[-1] / layers), length, dense)
+    fill = apply(np.asarray(motion.matrices(ts)), section).reshape(-1, 3)
+    return np.vstack([out, fill])
+
+
+def map_points_between(points, origin, normal, gap, motion_of_s):
+    """Case 2 on a cloud: point by point, s <= 0 bit-identical, s >= gap moved by
+    motion_of_s(1.0), between by motion_of_s(s / gap) (a fraction -> 4x4, see
+    motion.fraction_matrices). Same order and count as the input."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    n = unit_normal(normal)
+    gap = float(gap)
+    if not np.isfinite(gap) or gap <= 0:
+        raise DeformError("Plane2 must lie beyond Plane along its normal (on the moving side); "
+                          "move Plane2.", "Plane2")
+    s = signed_distance(pts, origin, n)
+    _check_crossing(s, "Plane")
+    _check_crossing(s - gap, "Plane2")
+    f = np.clip(s / gap, 0.0, 1.0)
+    out = pts.copy()
+    move = f > 0
+    out[move] = apply_each(fraction_matrices(motion_of_s, f[move]), pts[move])
+    return out

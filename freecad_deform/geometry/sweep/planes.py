@@ -1,0 +1,43 @@
+"""Separating planes: a point and a unit normal pointing toward the part that moves."""
+import numpy as np
+
+from ..errors import DeformError
+
+
+def unit_normal(normal, prop="Plane"):
+    """`normal` scaled to length 1; a zero vector is bad input for `prop`."""
+    n = np.asarray(normal, dtype=float)
+    length = np.linalg.norm(n)
+    if not np.isfinite(length) or length < 1e-12:
+        raise DeformError(f"The normal of {prop} has zero length; give {prop} a direction.", prop)
+    return n / length
+
+
+def signed_distance(points, origin, normal):
+    """Signed distance of each point (N, 3) to the plane; positive on the moving side."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    return (pts - np.asarray(origin, dtype=float)) @ unit_normal(normal)
+
+
+def frame(normal):
+    """An orthonormal basis (u, v, n) with n = normal, as the rows of a 3x3 array."""
+    n = unit_normal(normal)
+    helper = np.array([0.0, 0.0, 1.0]) if abs(n[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(helper, n)
+    u /= np.linalg.norm(u)
+    return np.array([u, np.cross(n, u), n])
+
+
+def parallel_gap(origin, normal, origin2, normal2, tol=1e-9):
+    """Distance from plane 1 to plane 2 along normal 1; they must be parallel and in order."""
+    n1, n2 = unit_normal(normal), unit_normal(normal2, "Plane2")
+    if np.linalg.norm(np.cross(n1, n2)) > tol:
+        angle = np.degrees(np.arccos(np.clip(abs(n1 @ n2), 0.0, 1.0)))
+        raise DeformError(f"Plane2 is not parallel to Plane (they meet at {angle:.3g} degrees): "
+                          f"the region between them is bounded by parallel planes, so turn "
+                          f"Plane2 to match Plane.", "Plane2")
+    gap = float((np.asarray(origin2, float) - np.asarray(origin, float)) @ n1)
+    if gap <= tol:
+        raise DeformError("Plane2 must lie beyond Plane along its normal (on the moving side); "
+                          "move Plane2.", "Plane2")
+    return gap
