@@ -1,0 +1,1 @@
+"""The deformation pipelines: Part/Mesh/Points and plain values in, result and output values out; no document objects."""
