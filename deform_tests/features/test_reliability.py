@@ -310,6 +310,32 @@ class ReliabilityTest(unittest.TestCase):
                           -720)
         self.assert_refused(t, "Plane2")
 
+    def test_twist_of_a_thin_region_keeps_the_far_part(self):
+        """Planes 0.001 mm apart across a sphere: the slab between them has every vertex
+        and edge on the planes, and OCCT's centre of mass put it beyond Plane2; the far
+        part was then dropped (6,011 of 14,137 mm^3, Up-to-date). Oracle: 4/3 pi r^3."""
+        ball = self.doc.addObject("Part::Feature", "Ball")
+        ball.Shape = Part.makeSphere(15)
+        t = fd.make_twist(ball, (V(-1.5, 0, 0), V(1, 0, 0)), (V(-1.499, 0, 0), V(1, 0, 0)),
+                          1e-12)
+        self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
+        self.assertTrue(t.Shape.isValid())
+        self.assertAlmostEqual(t.Shape.Volume / (4.0 / 3.0 * np.pi * 15 ** 3), 1.0, delta=1e-6)
+
+    def test_taper_of_curved_solids_passes_the_bop_check(self):
+        """A taper across a sphere and a torus: sewing left edge tolerances a hair below
+        their pcurve gaps (2.369e-7 against 2.36e-7; 5.2e-7 against 4.9e-7), which OCCT's
+        BOP check (the oracle) rejects though isValid() passes."""
+        for name, shape, planes in (("Ball", Part.makeSphere(15), (0.0, 3.0)),
+                                    ("Ring", Part.makeTorus(15, 4), (2.0, 4.0))):
+            base = self.doc.addObject("Part::Feature", name)
+            base.Shape = shape
+            t = fd.make_taper(base, (V(planes[0], 0, 0), V(1, 0, 0)),
+                              (V(planes[1], 0, 0), V(1, 0, 0)), 1.6)
+            self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
+            for solid in t.Shape.Solids:
+                solid.check(True)  # raises with the BOP check's findings
+
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
             self.doc.UndoMode = undo_mode

@@ -227,8 +227,12 @@ def split_by(solid, tools, offset, offsets):
                           for e in piece.Edges])
         s = offset(pts)
         off = np.min(np.abs(s[:, None] - np.asarray(offsets)[None, :]), axis=1) > TOL
-        probe = s[off][0] if off.any() else float(offset(
-            np.array([tuple(piece.CenterOfMass)]))[0])
+        if off.any():
+            probe = s[off][0]
+        elif np.ptp(s) > TOL:  # a slab with every vertex and edge on two planes: between them
+            probe = 0.5 * (s.min() + s.max())
+        else:  # OCCT's centre of mass strays on thin pieces with curved faces
+            probe = float(offset(np.array([tuple(piece.CenterOfMass)]))[0])
         zones[int(np.searchsorted(offsets, probe))].append(piece)
     return zones
 
