@@ -21,8 +21,11 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtGui
 
-from ..features.direct_push import INPUTS, Grab, inputs_of, point_at, replay
+from ..features.direct_push import inputs_of
 from ..geometry.nurbs import direct_push as dp
+from ..geometry.nurbs import push
+from ..geometry.nurbs.push import Grab, point_at
+from ..ops.direct_push import INPUTS, replay
 from ..shapes import bspline
 from .compat import event_position, sb_values
 from .dimension_drive_panel import length_text
@@ -46,9 +49,9 @@ def input_key(inputs):
 def grabbed_at(state, result, component, picked):
     """The parameter of the element at a click on `component` ("Edge1", "Face3") of the
     result shape at `picked`, or None when that is not the pushed element."""
-    if not component.startswith("Edge" if state.kind == "Edge" else "Face"):
+    if not component.startswith("Edge" if state.shape_type == "Edge" else "Face"):
         return None
-    if state.kind == "Edge":
+    if state.shape_type == "Edge":
         return dp.closest_parameter(state.current, picked)[0]
     if len(result.Faces) > 1 and not same_surface(result.getElement(component).Surface,
                                                   state.current):
@@ -68,21 +71,7 @@ def same_surface(surface, s):
 
 def samples(arrays):
     """Points for drawing: (k, 3) along a Curve, a grid (a, b, 3) over a Surface."""
-    if isinstance(arrays, dp.Curve):
-        p = arrays.degree
-        ts = np.linspace(arrays.knots[p], arrays.knots[-p - 1], CURVE_SAMPLES)
-        rows = dp.basis(arrays.knots, p, len(arrays.weights), ts) * arrays.weights
-        return (rows @ arrays.poles) / rows.sum(axis=1)[:, None]
-    rows = []
-    for knots, degree, n in ((arrays.uknots, arrays.udegree, arrays.weights.shape[0]),
-                             (arrays.vknots, arrays.vdegree, arrays.weights.shape[1])):
-        ts = np.linspace(knots[degree], knots[-degree - 1], int(np.clip(3 * n, 30, 90)))
-        rows.append(dp.basis(knots, degree, n, ts))
-    homogeneous = np.concatenate([arrays.poles * arrays.weights[..., None],
-                                  arrays.weights[..., None]], axis=-1)
-    grid = np.tensordot(np.tensordot(rows[0], homogeneous, (1, 0)), rows[1], (1, 1))
-    grid = grid.transpose(0, 2, 1)
-    return grid[..., :3] / grid[..., 3:]
+    return push.sample_points(arrays, CURVE_SAMPLES)
 
 
 # --- the mouse --------------------------------------------------------------------------------
@@ -590,7 +579,7 @@ class DirectPushPanel(TaskPanelBase):
             self.show_error(str(e))
             return False
         self.frame_times = []
-        self.preview.begin(state.kind == "Edge", rest_of(self.obj.Shape, component))
+        self.preview.begin(state.shape_type == "Edge", rest_of(self.obj.Shape, component))
         self.move(x, y)
         return True
 
