@@ -187,11 +187,9 @@ def swept_points(points, vec):
 
 def extent(shape, origin, normal):
     """(min, max) signed distance of the shape's bounding-box corners to the plane."""
-    bb = shape.BoundBox
-    corners = np.array([[x, y, z] for x in (bb.XMin, bb.XMax)
-                        for y in (bb.YMin, bb.YMax) for z in (bb.ZMin, bb.ZMax)])
-    s = (corners - origin) @ normal
-    return s.min(), s.max()
+    from ..geometry.sweep.defaults import extent as box_extent
+    from .convert import box_arrays
+    return box_extent(*box_arrays(shape.BoundBox), origin, normal)
 
 
 def plane_face(shape, origin, normal):

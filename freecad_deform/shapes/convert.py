@@ -197,3 +197,9 @@ def moved_mesh(mesh, vertices):
     for i, p in enumerate(np.asarray(vertices, float).tolist()):
         result.setPoint(i, App.Vector(*p))
     return result
+
+
+def box_arrays(bound_box):
+    """(lo, hi): the min and max corners of a FreeCAD BoundBox as numpy arrays."""
+    return (np.array([bound_box.XMin, bound_box.YMin, bound_box.ZMin]),
+            np.array([bound_box.XMax, bound_box.YMax, bound_box.ZMax]))
