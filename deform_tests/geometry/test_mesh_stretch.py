@@ -5,7 +5,8 @@ from hypothesis import assume, given, settings, strategies as st
 from scipy.spatial import ConvexHull, cKDTree
 
 from freecad_deform.geometry.errors import DeformError
-from freecad_deform.geometry.mesh.stretch import cut, stretch_mesh
+from freecad_deform.geometry.mesh.cut import cut
+from freecad_deform.geometry.mesh.stretch import stretch_mesh
 
 from .mesh_oracles import assert_closed_manifold, blob, volume
 

@@ -19,6 +19,7 @@ import Part
 from ..geometry.sweep import continuity
 from ..geometry.nurbs import surface_fit
 from ..geometry.errors import DeformError
+from ..geometry.vectors import unit
 from . import brep, bspline
 from .convert import vector
 
@@ -77,7 +78,7 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
              + moved)
     end = smap.end
     joints = [(o, n), (end[:3, :3] @ (o + gap * n) + end[:3, 3],
-                       _unit(np.linalg.inv(end[:3, :3]).T @ n))]
+                       unit(np.linalg.inv(end[:3, :3]).T @ n))]
     # the region's own faces meet only within their edges' and vertices' tolerances (a
     # real file's: up to 0.01 mm), and so do their images
     slack = max([v.Tolerance for f in inside for v in f.Vertexes]
@@ -98,10 +99,6 @@ def _shared_on_plane(a, b, origin, normal):
     ka, kb = [key(f) for f in fa], [key(f) for f in fb]
     return ([f for f, k in zip(fa, ka) if any(np.allclose(k, q, atol=1e-9) for q in kb)],
             [f for f, k in zip(fb, kb) if any(np.allclose(k, q, atol=1e-9) for q in ka)])
-
-
-def _unit(v):
-    return v / np.linalg.norm(v)
 
 
 def _moved_faces(faces, matrix, tol):
@@ -276,8 +273,8 @@ def _stretched_rectangle(face, smap):
 
 
 def _parallel(direction, normal, tol=1e-12):
-    return np.linalg.norm(np.cross(_unit(np.array(tuple(direction), float)),
-                                   _unit(np.asarray(normal, float)))) < tol
+    return np.linalg.norm(np.cross(unit(np.array(tuple(direction), float)),
+                                   unit(np.asarray(normal, float)))) < tol
 
 
 def _plane_of(built):

@@ -10,20 +10,10 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import DeformError
-from ..sweep.planes import parallel_gap, unit_normal
-
-
-def cut(vertices, triangles, origin, normal, eps=1e-9):
-    """Split every triangle that straddles the plane so each lies on one side of it.
-
-    Vertices with |s| <= eps are snapped onto the plane; each cut edge gets one new
-    vertex on the plane, shared by both its triangles, so a closed 2-manifold stays one.
-    Original vertices keep their indices (new ones are appended) and triangles their
-    orientation; the quadrilateral left by a cut is split along its shorter diagonal.
-    """
-    V, T = _arrays(vertices, triangles)
-    V, T, _ = _cut(V, T, np.asarray(origin, float), unit_normal(normal), eps)
-    return V, T
+from ..sweep.motion import ScrewMotion, translation
+from ..sweep.planes import check_crossing, parallel_gap, unit_normal
+from .cut import arrays, cut_arrays, seam
+from .sweep import sweep_mesh
 
 
 def stretch_mesh(vertices, triangles, origin, normal, distance, origin2=None, normal2=None,
@@ -36,9 +26,9 @@ def stretch_mesh(vertices, triangles, origin, normal, distance, origin2=None, no
     (origin2 given; normal2 defaults to normal): the region between them is stretched
     along the normal with its cross-sections kept, the part beyond Plane2 moved rigidly.
     """
-    V, T = _arrays(vertices, triangles)
+    V, T = arrays(vertices, triangles)
     o, n, d = np.asarray(origin, float), unit_normal(normal), float(distance)
-    _check_crossing((V - o) @ n, eps, "Plane")
+    check_crossing((V - o) @ n, "Plane", eps, touching=True)
     if d == 0:
         return V, T
     if origin2 is not None:
@@ -49,104 +39,8 @@ def stretch_mesh(vertices, triangles, origin, normal, distance, origin2=None, no
     return _shrink(V, T, o, n, -d, eps)
 
 
-def _arrays(vertices, triangles):
-    """Fresh (N, 3) float and (M, 3) int64 copies of the input."""
-    return (np.array(vertices, dtype=float).reshape(-1, 3),
-            np.array(triangles, dtype=np.int64).reshape(-1, 3))
-
-
-def _check_crossing(s, eps, prop):
-    """The plane must have part of the mesh on each side (on the plane counts for both)."""
-    if (s > eps).all() or (s < -eps).all():
-        raise DeformError(f"{prop} misses the part: the whole part lies on one side of it; "
-                          f"move {prop} so it crosses the part.", prop)
-
-
-def _directed(T):
-    """The directed edges of the triangles, T[:, j] -> T[:, j+1], flattened row by row."""
-    return T.ravel(), np.roll(T, -1, axis=1).ravel()
-
-
-def _cut(V, T, o, n, eps):
-    """`cut` on clean arrays; also returns s, exactly 0 for the vertices on the plane."""
-    N = len(V)
-    s = (V - o) @ n
-    on = np.abs(s) <= eps
-    V = V.copy()
-    V[on] -= s[on, None] * n
-    s[on] = 0.0
-    side = np.sign(s)[T]
-    crossing = side * np.roll(side, -1, axis=1) < 0          # edge j: vertex j -> j+1
-    split = crossing.any(axis=1)
-    Ts, cs = T[split], crossing[split]
-    ea, eb = Ts[cs], np.roll(Ts, -1, axis=1)[cs]
-    keys, inv = np.unique(np.minimum(ea, eb) * N + np.maximum(ea, eb), return_inverse=True)
-    lo, hi = keys // N, keys % N
-    t = s[lo] / (s[lo] - s[hi])
-    P = V[lo] + t[:, None] * (V[hi] - V[lo])
-    P -= ((P - o) @ n)[:, None] * n
-    P, inv = _merge_close(P, inv, eps)
-    W = np.concatenate([V, P])
-    new = np.full(Ts.shape, -1, dtype=np.int64)
-    new[cs] = N + inv
-    # Rotate each split triangle to start at its pivot: the lone vertex on one side when
-    # two edges cross, else the on-plane vertex opposite the one crossing edge.
-    two = cs.sum(axis=1) == 2
-    pivot = np.where(two, np.argmax(cs & np.roll(cs, 1, axis=1), axis=1),
-                     (np.argmax(cs, axis=1) + 2) % 3)
-    turn = (pivot[:, None] + np.arange(3)) % 3
-    a, b, c = np.take_along_axis(Ts, turn, axis=1).T
-    pab, pbc, pca = np.take_along_axis(new, turn, axis=1).T
-    a2, b2, c2, p, q = a[two], b[two], c[two], pab[two], pca[two]
-    short = np.linalg.norm(W[p] - W[c2], axis=1) <= np.linalg.norm(W[b2] - W[q], axis=1)
-    quad1 = np.where(short[:, None], np.stack([p, b2, c2], 1), np.stack([p, b2, q], 1))
-    quad2 = np.where(short[:, None], np.stack([p, c2, q], 1), np.stack([b2, c2, q], 1))
-    one = ~two
-    T = np.concatenate([T[~split], np.stack([a2, p, q], 1), quad1, quad2,
-                        np.stack([a[one], b[one], pbc[one]], 1),
-                        np.stack([a[one], pbc[one], c[one]], 1)])
-    flat = (T[:, 0] == T[:, 1]) | (T[:, 1] == T[:, 2]) | (T[:, 2] == T[:, 0])
-    return W, T[~flat], np.concatenate([s, np.zeros(len(P))])
-
-
-def _merge_close(P, inv, eps):
-    """New points closer than eps to each other become one (the first of each cluster).
-
-    A sliver triangle crossing the plane near its sharp tip puts its two cut points
-    almost together; stored apart they would make a needle facet (and in float32 one
-    point). Merged, the two facets on that tiny edge vanish (an edge collapse on the
-    plane) and the mesh stays a closed 2-manifold."""
-    if len(P) < 2:
-        return P, inv
-    pairs = cKDTree(P).query_pairs(eps, output_type="ndarray")
-    if not len(pairs):
-        return P, inv
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (len(P), len(P)))
-    _, label = connected_components(graph, directed=False)
-    first = np.full(label.max() + 1, len(P))
-    np.minimum.at(first, label, np.arange(len(P)))
-    keep, cluster = np.unique(first[label], return_inverse=True)
-    return P[keep], cluster.reshape(-1)[inv]
-
-
-def _seam(part, other, on):
-    """Directed edges (row, a, b) of `part` between vertices `on` the plane whose reverse
-    b -> a is an edge of `other`: where the two triangle sets meet."""
-    N = len(on)
-    a, b = _directed(part)
-    oa, ob = _directed(other)
-    mine = np.flatnonzero(on[a] & on[b])
-    theirs = on[oa] & on[ob]
-    hit = mine[np.isin(b[mine] * N + a[mine], oa[theirs] * N + ob[theirs])]
-    return hit // 3, a[hit], b[hit]
-
-
 def _extend(V, T, o, n, d, eps):
     """Case distance > 0: the sweep by a translation along the normal, in one band."""
-    from .sweep import sweep_mesh  # it builds on this module's cut and seam
-    from ..sweep.motion import ScrewMotion, translation
     return sweep_mesh(V, T, o, n, ScrewMotion(translation(d * n)), samples=1, eps=eps)
 
 
@@ -156,9 +50,9 @@ def _stretch_between(V, T, o, n, d, o2, n2, eps):
     if L + d <= 0:
         raise DeformError(f"Distance {d:g} would collapse the region between Plane and Plane2 "
                           f"({L:g} apart); keep Distance above {-L:g}.", "Distance")
-    _check_crossing((V - o2) @ n, eps, "Plane2")
-    V, T, s1 = _cut(V, T, o, n, eps)
-    V, T, s2 = _cut(V, T, o2, n, eps)
+    check_crossing((V - o2) @ n, "Plane2", eps, touching=True)
+    V, T, s1 = cut_arrays(V, T, o, n, eps)
+    V, T, s2 = cut_arrays(V, T, o2, n, eps)
     f = np.ones(len(V))
     f[:len(s1)] = np.clip(s1 / L, 0.0, 1.0)
     f[s2 >= 0] = 1.0
@@ -175,14 +69,14 @@ def _shrink(V, T, o, n, D, eps):
                           f"{s.max():g} beyond Plane; reduce Distance to less than {s.max():g} "
                           f"in size.", "Distance")
     tol = 1e-9 * np.linalg.norm(V.max(axis=0) - V.min(axis=0))
-    V, T, s1 = _cut(V, T, o, n, eps)
-    V, T, s2 = _cut(V, T, o + D * n, n, eps)
+    V, T, s1 = cut_arrays(V, T, o, n, eps)
+    V, T, s2 = cut_arrays(V, T, o + D * n, n, eps)
     s1 = np.concatenate([s1, np.full(len(V) - len(s1), D)])   # new vertices are on plane 2
     is_near = (s1[T] <= 0).all(axis=1)
     is_far = (s2[T] >= 0).all(axis=1) & ~is_near
     near, far, slab = T[is_near], T[is_far], T[~(is_near | is_far)]
     V[s2 >= 0] -= D * n
-    near_seam, far_seam = _seam(near, slab, s1 == 0), _seam(far, slab, s2 == 0)
+    near_seam, far_seam = seam(near, slab, s1 == 0), seam(far, slab, s2 == 0)
     near_pts, far_pts = np.unique(near_seam[1:]), np.unique(far_seam[1:])
     near, near_ring = _insert(V, near, near_seam, far_pts, tol)
     far, far_ring = _insert(V, far, far_seam, near_pts, tol)

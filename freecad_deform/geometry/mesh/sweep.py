@@ -1,6 +1,6 @@
 """Bend, twist and general rigid motions on closed triangle meshes (Wu & Ilies 2011).
 
-Case 1 (`sweep_mesh`, one plane): the mesh is cut at the plane (mesh_stretch.cut), the far
+Case 1 (`sweep_mesh`, one plane): the mesh is cut at the plane (cut.cut), the far
 part moved by M(1) and the gap filled with the section ring swept through `samples` + 1
 configurations M(i/samples). Case 2 (`map_between`, two parallel planes): the region between
 the planes is cut into `samples` slabs and each vertex mapped by the motion at its fraction of
@@ -10,9 +10,9 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from .stretch import _arrays, _check_crossing, _cut, _seam
+from .cut import arrays, cut_arrays, seam
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
-from ..sweep.planes import unit_normal
+from ..sweep.planes import check_crossing, unit_normal
 
 
 def _check_samples(samples):
@@ -37,11 +37,11 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     (velocity . normal > 0), else the band would fold back through the fixed part: a
     DeformError names Axis (the axis crosses the section) or Angle (it all turns backward).
     """
-    V, T = _arrays(vertices, triangles)
+    V, T = arrays(vertices, triangles)
     o, n = np.asarray(origin, float), unit_normal(normal)
     samples = _check_samples(samples)
-    _check_crossing((V - o) @ n, eps, "Plane")
-    V, T, s = _cut(V, T, o, n, eps)
+    check_crossing((V - o) @ n, "Plane", eps, touching=True)
+    V, T, s = cut_arrays(V, T, o, n, eps)
     is_far = (s[T] > 0).any(axis=1)
     near, far = T[~is_far], T[is_far]
     near_used = np.zeros(len(V), bool)
@@ -52,7 +52,7 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     N = len(V)
     copy = np.arange(N)
     copy[dup] = N + np.arange(len(dup))
-    _, a, b = _seam(far, near, s == 0)
+    _, a, b = seam(far, near, s == 0)
     ring = np.unique(np.concatenate([a, b]))
     if len(ring):
         _check_no_fold(motion.velocity(V[ring], 0.0), n)
@@ -101,7 +101,7 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     map only at its vertices: the triangles are flat, so a curved map is sampled `samples`
     times across the gap. The cost is linear in samples and in the triangles.
     """
-    V, T = _arrays(vertices, triangles)
+    V, T = arrays(vertices, triangles)
     o, n = np.asarray(origin, float), unit_normal(normal)
     gap = _check_gap(gap)
     samples = _check_samples(samples)
@@ -112,8 +112,8 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
         raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
                           "infinity); repair or replace the Base mesh.", "Base")
     s = (V - o) @ n
-    _check_crossing(s, eps, "Plane")
-    _check_crossing(s - gap, eps, "Plane2")
+    check_crossing(s, "Plane", eps, touching=True)
+    check_crossing(s - gap, "Plane2", eps, touching=True)
     V, T, plane_of = slab_cut(V, T, o, n, gap, samples, eps)
     f = np.clip(((V - o) @ n) / gap, 0.0, 1.0)
     on = plane_of >= 0

@@ -3,10 +3,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import DeformError
-from ..sweep.planes import parallel_gap, signed_distance, unit_normal
+from ..sweep.planes import TOUCH, check_crossing, parallel_gap, signed_distance, unit_normal
 
-TOUCH = 1e-9  # points this close to a plane count as on it (as in the mesh kernels)
-
+EVERY_POINT = "every point is on one side of it"
 
 _SPACINGS = {}   # fingerprint of a cloud -> its spacing: a recompute of the same Base reuses it
 
@@ -55,12 +54,6 @@ def section_band(s, step):
     return dist <= dist.min() + step / 2
 
 
-def _check_crossing(s, prop):
-    if not (s.min() < 0.0 < s.max()):
-        raise DeformError(f"{prop} misses the part: every point is on one side of it; "
-                          f"move {prop} so it crosses the part.", prop)
-
-
 def stretch_points(points, origin, normal, distance, origin2=None, normal2=None, step=None):
     """Stretch a cloud by `distance` along `normal` (see the mesh kernel for the cases).
 
@@ -74,12 +67,12 @@ def stretch_points(points, origin, normal, distance, origin2=None, normal2=None,
     n = unit_normal(normal)
     s = signed_distance(pts, origin, n)
     s[np.abs(s) <= TOUCH] = 0.0  # on the plane: stays with the near part, bit-identical
-    _check_crossing(s, "Plane")
+    check_crossing(s, "Plane", where=EVERY_POINT)
     if distance == 0:
         return pts.copy()
     if origin2 is not None:
         gap = parallel_gap(origin, n, origin2, normal2 if normal2 is not None else n)
-        _check_crossing(s - gap, "Plane2")
+        check_crossing(s - gap, "Plane2", where=EVERY_POINT)
         if gap + distance <= 0:
             raise DeformError(f"Distance {distance:g} would collapse the region between the planes "
                               f"(gap {gap:g}); keep Distance above {-gap:g}.", "Distance")

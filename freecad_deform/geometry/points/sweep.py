@@ -7,18 +7,10 @@ import numpy as np
 
 from ..errors import DeformError
 from ..sweep.motion import apply, apply_each, fraction_matrices
-from ..sweep.planes import signed_distance, unit_normal
-from .stretch import section_band, spacing
+from ..sweep.planes import TOUCH, check_crossing, signed_distance, unit_normal
+from .stretch import EVERY_POINT, section_band, spacing
 
-_TOUCH = 1e-9          # points this close to a plane count as on it (as the mesh kernels' eps)
 _PATH_SAMPLES = 2049   # samples of the centroid's trajectory to measure its length
-
-
-def _check_crossing(s, prop):
-    """The plane must have points on each side (points on the plane count for both)."""
-    if (s > _TOUCH).all() or (s < -_TOUCH).all():
-        raise DeformError(f"{prop} misses the part: every point is on one side of it; "
-                          f"move {prop} so it crosses the part.", prop)
 
 
 def sweep_points(points, origin, normal, motion, step=None):
@@ -36,13 +28,13 @@ def sweep_points(points, origin, normal, motion, step=None):
     pts = np.asarray(points, float).reshape(-1, 3)
     n = unit_normal(normal)
     s = signed_distance(pts, origin, n)
-    _check_crossing(s, "Plane")
+    check_crossing(s, "Plane", touching=True, where=EVERY_POINT)
     step = spacing(pts) if step is None else float(step)
     if not np.isfinite(step) or step <= 0:
         raise DeformError(f"The fill step must be a positive length (it is {step:g}); "
                           f"give a positive Step.", "Step")
     out = pts.copy()
-    far = s > _TOUCH
+    far = s > TOUCH
     out[far] = apply(motion.matrix(1.0), pts[far])
     near = section_band(s, step)
     section = pts[near] - s[near, None] * n
@@ -70,8 +62,8 @@ def map_points_between(points, origin, normal, gap, motion_of_s):
         raise DeformError("Plane2 must lie beyond Plane along its normal (on the moving side); "
                           "move Plane2.", "Plane2")
     s = signed_distance(pts, origin, n)
-    _check_crossing(s, "Plane")
-    _check_crossing(s - gap, "Plane2")
+    check_crossing(s, "Plane", touching=True, where=EVERY_POINT)
+    check_crossing(s - gap, "Plane2", touching=True, where=EVERY_POINT)
     f = np.clip(s / gap, 0.0, 1.0)
     out = pts.copy()
     move = f > 0

@@ -18,6 +18,7 @@ from scipy.interpolate import make_interp_spline
 from scipy.spatial.transform import Rotation
 
 from ..errors import DeformError
+from ..vectors import skew, unit
 from .planes import frame
 
 _RIGID_TOL = 1e-9        # how far a given 4x4 may be from a rigid transform
@@ -25,24 +26,6 @@ _TRANSLATION_ANGLE = 1e-13   # rotation angles below this are treated as exactly
 
 
 # ---------------------------------------------------------------- transforms
-
-def _unit(direction, prop):
-    d = np.asarray(direction, dtype=float).reshape(3)
-    length = np.linalg.norm(d)
-    if not np.isfinite(length) or length < 1e-12:
-        raise DeformError(f"The direction of {prop} has zero length; give {prop} a direction.",
-                          prop)
-    return d / length
-
-
-def _skew(k):
-    """[k]x, the matrix of the cross product k x ., for k (..., 3)."""
-    k = np.asarray(k, float)
-    z = np.zeros(k.shape[:-1])
-    return np.stack([np.stack([z, -k[..., 2], k[..., 1]], -1),
-                     np.stack([k[..., 2], z, -k[..., 0]], -1),
-                     np.stack([-k[..., 1], k[..., 0], z], -1)], -2)
-
 
 def _homogeneous(R, d):
     """[[R, d], [0, 1]] for R (..., 3, 3), d (..., 3)."""
@@ -58,7 +41,7 @@ def _homogeneous(R, d):
 def _rodrigues(k, phi):
     """Rotation matrices (..., 3, 3) by the angles phi (...) about the unit vector k."""
     phi = np.asarray(phi, float)
-    K = _skew(k)
+    K = skew(k)
     s, h = np.sin(phi)[..., None, None], np.sin(phi / 2)[..., None, None]
     return np.eye(3) + s * K + 2 * h * h * (K @ K)
 
@@ -66,7 +49,7 @@ def _rodrigues(k, phi):
 def rotation(point, direction, angle):
     """The 4x4 rotation by `angle` (radians, right-hand rule about `direction`) about the
     line through `point`. An array of angles (K,) gives a stack (K, 4, 4)."""
-    k = _unit(direction, "Axis")
+    k = unit(np.asarray(direction, float).reshape(3), "Axis")
     c = np.asarray(point, float).reshape(3)
     R = _rodrigues(k, angle)
     return _homogeneous(R, c - R @ c)
@@ -342,7 +325,7 @@ def profile_frames(motion, point, ts, x_axis=None):
                           "rotation axis), so its path has no tangent; move Axis off the "
                           "section.", "Axis")
     z = tangents / speed[:, None]
-    x0 = frame(z[0])[0] if x_axis is None else _unit(x_axis, "Plane")
+    x0 = frame(z[0])[0] if x_axis is None else unit(np.asarray(x_axis, float).reshape(3), "Plane")
     x = M[:, :3, :3] @ x0
     x -= np.einsum("ij,ij->i", x, z)[:, None] * z
     length = np.linalg.norm(x, axis=1)

@@ -2,15 +2,32 @@
 import numpy as np
 
 from ..errors import DeformError
+from ..vectors import unit
+
+
+TOUCH = 1e-9  # points this close to a plane count as on it (the kernels' default eps)
 
 
 def unit_normal(normal, prop="Plane"):
     """`normal` scaled to length 1; a zero vector is bad input for `prop`."""
-    n = np.asarray(normal, dtype=float)
-    length = np.linalg.norm(n)
-    if not np.isfinite(length) or length < 1e-12:
-        raise DeformError(f"The normal of {prop} has zero length; give {prop} a direction.", prop)
-    return n / length
+    return unit(normal, prop, "normal")
+
+
+def missed(prop, where=None):
+    """The refusal of a plane `prop` that does not cross the part (`where`: what lies on
+    which side of it)."""
+    why = f": {where}" if where else ""
+    return DeformError(f"{prop} misses the part{why}; move {prop} so it crosses the part.", prop)
+
+
+def check_crossing(s, prop, eps=TOUCH, touching=False,
+                   where="the whole part lies on one side of it"):
+    """Plane `prop` must cross the part whose points lie at signed distances `s` from it:
+    some beyond eps on each side, or (touching) within eps of the plane counting for both
+    sides."""
+    lo, hi = float(np.min(s)), float(np.max(s))
+    if not ((lo <= eps and hi >= -eps) if touching else (lo < -eps and hi > eps)):
+        raise missed(prop, where)
 
 
 def signed_distance(points, origin, normal):
