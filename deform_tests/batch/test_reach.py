@@ -1,8 +1,9 @@
 """`reach` on a real bracket (fc_Schenkel.stp): its end hole (Face338, radius 2, axis X at
 x = 140) must land where a turn of -20 deg about an axis through (120, 0, 40) along Y takes
 it (Rodrigues' formula, written here): a Bend, the hole found again on the result by its
-radius lands to 1e-9 mm and 1e-9 rad; a target along the normal is a Stretch; a screw
-motion is refused."""
+radius lands to 1e-9 mm and 1e-9 rad; a target along the normal is a Stretch; a slide across
+the normal with a turn, and a screw, are key-frame sweeps whose hole rims land to 1e-9; a
+slide along the Plane is refused."""
 import numpy as np
 import pytest
 
@@ -89,14 +90,67 @@ def test_reach_along_the_normal_is_a_stretch(bracket):
         App.closeDocument(doc.Name)
 
 
-def test_screw_motion_is_refused(bracket):
-    """The Bend's turn plus a 5 mm slide along its axis: no Stretch or Bend makes it; the
-    document keeps only its Model."""
-    (q,), rot = rodrigues(HOLE_CENTRE, np.array([120.0, 0, 40]), np.array([0, 1.0, 0]), -20)
+def circles_on(shape, radius, near, reach=1.0):
+    """(centre, axis) of every circular edge of `radius` within `reach` of `near`: the
+    hole's rims measured on the result."""
+    out = []
+    edges = [e for f in shape.Faces if f.Surface.TypeId == "Part::GeomCylinder"
+             for e in f.Edges]  # rims of cylinders (the file has degenerated edges elsewhere)
+    for edge in {e.hashCode(): e for e in edges}.values():
+        c = edge.Curve
+        if c.TypeId == "Part::GeomCircle" and abs(c.Radius - radius) < 1e-9:
+            centre = np.array(tuple(c.Center))
+            if np.linalg.norm(centre - near) < reach:
+                out.append((centre, np.array(tuple(c.Axis)) / c.Axis.Length))
+    return out
+
+
+def rigid(rot, centre, shift):
+    """The motion x -> rot (x - centre) + centre + shift."""
+    return lambda x: (np.atleast_2d(x) - centre) @ rot.T + centre + shift
+
+
+@pytest.mark.parametrize("turn, shift", [
+    # a slide across the normal (3 mm along Y, 2 along Z) with a 3 deg turn about Z
+    (((140.0, 0, 0), (0, 0, 1.0), 3.0), (30.0, 3.0, 2.0)),
+    # a screw: the Bend's -20 deg turn about Y plus a 1 mm slide along Y (lifted off first)
+    (((120.0, 0, 40.0), (0, 1.0, 0), -20.0), (0.0, 1.0, 0.0)),
+], ids=["slide-and-turn", "screw"])
+def test_reach_by_key_frames_lands_the_hole_rims(bracket, turn, shift):
+    """Neither a Stretch nor a Bend: a Stretch whose far part ends at EndPlacement through
+    key frames (Method KeyFrames). Oracle: the hole's two rim circles (x = 135 and 145 on
+    the base) measured on the result, against the motion written here (Rodrigues)."""
+    centre, axis, degrees = np.asarray(turn[0], float), np.asarray(turn[1], float), turn[2]
+    _, rot = rodrigues(HOLE_CENTRE, centre, axis, degrees)
+    move = rigid(rot, centre, np.asarray(shift, float))
+    (q,) = move(HOLE_CENTRE)
+    b = rot @ HOLE_AXIS
     doc = App.openDocument(bracket)
     try:
-        with pytest.raises(DeformError, match="screw motion"):
-            reach.reach(doc, "Model", PLANE, "Face338", (q + [0, 5.0, 0], rot @ HOLE_AXIS))
+        found = reach.reach(doc, "Model", PLANE, "Face338", (q, b))
+        assert found["method"] == "KeyFrames"
+        obj = doc.getObject(found["object"])
+        assert obj.UseEndPlacement and "Invalid" not in obj.State
+        shape = obj.Shape
+        assert shape.isValid() and len(shape.Solids) == 1
+        for rim in ((135.0, 0, 0), (145.0, 0, 0)):
+            (want,) = move(rim)
+            rims = circles_on(shape, 2.0, want)  # the rim, whole or in arcs
+            assert rims
+            for landed, landed_axis in rims:
+                assert np.linalg.norm(landed - want) < 1e-9
+                assert angle_between_lines(landed_axis, b) < 1e-9
+    finally:
+        App.closeDocument(doc.Name)
+
+
+def test_a_slide_along_the_plane_is_refused(bracket):
+    """A target 6 mm across the normal and no advance: every sweep to it reaches back into
+    the part; refused, the document keeps only its Model."""
+    doc = App.openDocument(bracket)
+    try:
+        with pytest.raises(DeformError, match="key-frame sweep"):
+            reach.reach(doc, "Model", PLANE, "Face338", (HOLE_CENTRE + [0, 6.0, 0], HOLE_AXIS))
         assert [o.Name for o in doc.Objects] == ["Model"]
     finally:
         App.closeDocument(doc.Name)

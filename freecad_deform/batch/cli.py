@@ -56,7 +56,9 @@ face's centre and normal, picked as --feature FaceN of --base) must land at --ta
 POINT:AXIS. The far part's motion is the least rotation taking the axis to the target
 axis, then the translation taking the centre there. A translation along the Plane's
 normal becomes a Stretch; a turn about one axis an exact Bend (which one is printed as
-"Method = ..."). A motion that is neither is refused. Vectors are written x,y,z."""
+"Method = ..."). A motion that is neither (a screw, a slide across the normal) is swept
+through key frames (Method = KeyFrames: a Stretch whose far part ends at EndPlacement).
+Vectors are written x,y,z."""
 
 SOLVE = """\
 Goal seek: find the property values within their bounds that make outputs hit targets

@@ -3,7 +3,10 @@ axis: a hole's centre and axis, a face's centre and normal) must end at a target
 axis. The far part's rigid motion is the least rotation taking the axis to the target axis,
 then the translation taking the point to the target point. A translation along the Plane's
 normal is made as a Stretch, a rotation about an axis (no slide along it) as an exact Bend.
-A motion that is neither (a screw, or a translation across the normal) is refused."""
+A motion that is neither (a screw, or a translation across the normal) is swept through key
+frames (Step 6 of the paper): a Stretch whose far part ends at EndPlacement, the gap lofted
+along the motion, lifted off the Plane along its normal first where a direct path would
+reach back into the part."""
 import numpy as np
 
 from . import model
@@ -49,29 +52,24 @@ def least_rotation(a, b, normal):
 
 
 def motion_kind(p, a, q, b, origin, normal, tol):
-    """("Stretch", distance) or ("Bend", axis point, axis direction, degrees) for the rigid
-    motion taking the point p and axis a to q and b."""
+    """("Stretch", distance), ("Bend", axis point, axis direction, degrees) or ("KeyFrames",
+    4x4 matrix) for the rigid motion taking the point p and axis a to q and b."""
     rot = least_rotation(a, b, normal)
     shift = q - p
     angle = np.arccos(np.clip((np.trace(rot) - 1) / 2, -1, 1))
+    end = np.eye(4)
+    end[:3, :3], end[:3, 3] = rot, q - rot @ p
     if angle < 1e-15:
         across = shift - (shift @ normal) * normal
         if np.linalg.norm(across) > tol:
-            raise model.BatchError(
-                f"the target is {np.linalg.norm(across):.6g} mm off the line along the "
-                f"Plane's normal through the feature, and a Stretch moves the far part "
-                f"along that normal; give a target on that line or turn the Plane.")
+            return "KeyFrames", end
         return "Stretch", float(shift @ normal)
     w = np.array([rot[2, 1] - rot[1, 2], rot[0, 2] - rot[2, 0], rot[1, 0] - rot[0, 1]])
     if np.linalg.norm(w) < 1e-12:  # a half turn: its axis from R + I
         w = (rot + np.eye(3))[np.argmax(np.diag(rot))]
     u = w / np.linalg.norm(w)
-    slide = float(shift @ u)
-    if abs(slide) > tol:
-        raise model.BatchError(
-            f"the target needs a screw motion (a turn of {np.degrees(angle):.6g} deg and a "
-            f"slide of {slide:.6g} mm along its axis), which neither a Stretch nor a Bend "
-            f"makes; give a target the feature reaches by turning about one axis.")
+    if abs(float(shift @ u)) > tol:  # a screw: a turn and a slide along its axis
+        return "KeyFrames", end
     # the axis: points c with (I - R)(c - p) = q - p, the one nearest the Plane's origin
     c0 = p + np.linalg.lstsq(np.eye(3) - rot, shift, rcond=None)[0]
     c0 = c0 - ((c0 - p) @ u) * u
@@ -79,10 +77,27 @@ def motion_kind(p, a, q, b, origin, normal, tol):
     return "Bend", centre, u, float(np.degrees(angle))
 
 
+def key_frame_tries(end, origin, normal):
+    """(KeyPlacements, Interpolation) to try in turn for a key-frame sweep ending at `end`:
+    the direct motion, then lifted off the Plane along its normal by half the far part's
+    advance (profiles stay normal to the path, so a path that leaves the Plane obliquely
+    would reach back into the part)."""
+    advance = float((end[:3, :3] @ origin + end[:3, 3] - origin) @ normal)
+    lift = np.eye(4)
+    lift[:3, 3] = 0.5 * max(advance, 0.0) * normal
+    return [([], "Rational"), ([lift], "Screw"), ([lift], "Rational")]
+
+
+def _placement(matrix):
+    return App.Placement(App.Matrix(*map(float, np.asarray(matrix).ravel())))
+
+
 def reach(doc, base, plane, feature, target, tol=1e-9):
     """Make the Stretch or Bend of `base` at `plane` ((origin, normal)) that takes
     `feature` ("FaceN" of the base, or (point, axis)) to `target` ((point, axis)). Returns
-    {"method", "object", "distance" or "axis"/"angle"}; the document is recomputed."""
+    {"method", "object", and "distance", "axis"/"angle" or "keys"/"interpolation"}; the
+    document is recomputed. "method" is Stretch, Bend or KeyFrames (a Stretch whose far part
+    ends at EndPlacement through KeyPlacements)."""
     import freecad_deform as fd
     obj = model.find_object(doc, base) if isinstance(base, str) else base
     origin, normal = (np.asarray(v, float) for v in plane)
@@ -103,14 +118,44 @@ def reach(doc, base, plane, feature, target, tol=1e-9):
     if kind[0] == "Stretch":
         made = fd.make_stretch(obj, (vec(origin), vec(normal)), kind[1])
         info = {"distance": kind[1]}
-    else:
+    elif kind[0] == "Bend":
         _, centre, u, degrees = kind
         made = fd.make_bend(obj, (vec(origin), vec(normal)), degrees, (vec(centre), vec(u)))
         info = {"axis": (tuple(centre), tuple(u)), "angle": degrees}
+    else:
+        return _key_frames(doc, obj, origin, normal, kind[1], vec)
     valid, error = model.status(doc)
     if error:  # leave the document as it was
-        doc.removeObject(made.Name)
-        obj.Visibility = True
-        doc.recompute()
+        _remove(doc, obj, made)
         raise model.BatchError(f"the {kind[0]} that reaches the target fails: {error}")
     return {"method": kind[0], "object": made.Name, **info}
+
+
+def _remove(doc, base, made):
+    doc.removeObject(made.Name)
+    base.Visibility = True
+    doc.recompute()
+
+
+def _key_frames(doc, obj, origin, normal, end, vec):
+    """The key-frame sweep ending at `end`: a Stretch with UseEndPlacement, trying the
+    KeyPlacements of key_frame_tries until one recomputes valid."""
+    import freecad_deform as fd
+    advance = float((end[:3, :3] @ origin + end[:3, 3] - origin) @ normal)
+    made = fd.make_stretch(obj, (vec(origin), vec(normal)), advance)
+    made.UseEndPlacement = True
+    made.EndPlacement = _placement(end)
+    errors = []
+    for keys, interpolation in key_frame_tries(end, origin, normal):
+        made.KeyPlacements = [_placement(k) for k in keys]
+        made.Interpolation = interpolation
+        made.touch()
+        doc.recompute()
+        valid, error = model.status(doc)
+        if not error:
+            return {"method": "KeyFrames", "object": made.Name, "keys": len(keys),
+                    "interpolation": interpolation}
+        errors.append(error)
+    _remove(doc, obj, made)
+    raise model.BatchError(f"the key-frame sweep that reaches the target fails ({errors[-1]}); "
+                           f"give a target the far part reaches moving away from the Plane.")

@@ -36,6 +36,13 @@ INTERPOLATION = Prop("App::PropertyEnumeration", "Interpolation", "Motion",
                      "How the motion passes through KeyPlacements: Rational, a C2 dual-quaternion "
                      "spline whose point paths are NURBS; Screw, a screw motion from key to key.",
                      list(mo.INTERPOLATIONS))
+USE_END = Prop("App::PropertyBool", "UseEndPlacement", "Motion",
+               "Move the far part to EndPlacement (any rigid motion: a screw, a slide across "
+               "the normal) instead of by the feature's own motion; the gap is lofted along the "
+               "key-frame motion through KeyPlacements to it.", False)
+END = Prop("App::PropertyPlacement", "EndPlacement", "Motion",
+           "Final placement of the far part (the paper's last key frame), used when "
+           "UseEndPlacement is true.")
 RESULTS = (
     Prop("App::PropertyFloat", "VolumeChange", "Result",
          "Volume of the result minus the volume of the Base, in mm^3 (negative when it "
@@ -125,8 +132,12 @@ def joint_report(shape, joints):
 
 
 def key_motion(obj, final):
-    """The motion through the object's KeyPlacements ending at `final`, or None."""
-    if not len(obj.KeyPlacements):
+    """The motion through the object's KeyPlacements ending at `final` (at EndPlacement
+    with UseEndPlacement), or None."""
+    free_end = getattr(obj, "UseEndPlacement", False)
+    if free_end:
+        final = matrix_array(obj.EndPlacement)
+    if not (len(obj.KeyPlacements) or free_end):
         return None
     keys = [np.eye(4)] + [matrix_array(p) for p in obj.KeyPlacements] + [final]
     return mo.key_motion(keys, obj.Interpolation)

@@ -24,7 +24,7 @@ class Stretch(DeformFeature):
              "Case 3: corner points of a polyline in a plane that contains the Plane normal; "
              "the separating surface is the polyline extruded perpendicular to that plane, "
              "and the part moves along the Plane normal. Empty: the flat Plane."),
-        ss.KEYS, ss.INTERPOLATION, ss.SAMPLES, flex.TOLERANCE,
+        ss.KEYS, ss.INTERPOLATION, ss.USE_END, ss.END, ss.SAMPLES, flex.TOLERANCE,
     ) + ss.RESULTS + (flex.MAX_DEVIATION,)
 
     def compute(self, obj, kind):
