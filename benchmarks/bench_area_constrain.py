@@ -6,7 +6,7 @@ Run from anywhere:
     /usr/bin/python3 benchmarks/bench_area_constrain.py            # median of 5 runs
     /usr/bin/python3 benchmarks/bench_area_constrain.py --quick    # 1 run
 
-Prints tables, asserts nothing about time. The IGES-like 18 x 8 hood (deform_tests/geometry/canopy.py)
+Prints tables, asserts nothing about time. The IGES-like 18 x 8 hood (deform_tests/oracles/nurbs.py)
 is timed next to the numbers the kernel before the graded quadrature gave on it. The paper's penalty Newton runs on its own
 cases only; on the 20 x 20 surface it is left out (a minute per run). The paper's MATLAB times: about 2 minutes for
 one variable, over 60 minutes for 18 variables. "solve" is the whole kernel solve
@@ -26,9 +26,7 @@ import numpy as np  # noqa: E402
 from freecad_deform.geometry.nurbs import area_constrain as ac  # noqa: E402
 from freecad_deform.geometry.nurbs.bspline_area import quadrature  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(__file__))),
-                                "deform_tests", "geometry"))
-from canopy import canopy, hood  # noqa: E402
+from deform_tests.oracles.nurbs import canopy, hood  # noqa: E402
 
 # The IGES-like 18 x 8 hood (C1 bicubic, collapsed first rows, a degenerate corner), +3 %,
 # every interior pole, before this kernel (commit 08342cf: uniform Gauss-Legendre doubled

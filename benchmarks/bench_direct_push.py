@@ -32,9 +32,7 @@ import freecad_deform as fd  # noqa: E402
 from freecad_deform.geometry.nurbs import direct_push as dp  # noqa: E402
 from freecad_deform.shapes import bspline  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(__file__))),
-                                "deform_tests", "geometry"))
-from canopy import canopy  # noqa: E402
+from deform_tests.oracles.nurbs import canopy  # noqa: E402
 
 V = App.Vector
 

@@ -178,7 +178,7 @@ class TestShapes(AreaCase):
 
 
 def part_surface(arrays):
-    """A Part.BSplineSurface from numpy arrays (deform_tests/geometry/canopy.py)."""
+    """A Part.BSplineSurface from numpy arrays (deform_tests/oracles/nurbs.py)."""
     def knots_mults(full):
         k, m = np.unique(full, return_counts=True)
         return [float(x) for x in k], [int(x) for x in m]
@@ -194,7 +194,7 @@ def graded_area(surface, toward):
     """The area of a Part.BSplineSurface (non-rational) by scipy's BSpline on OCCT's poles
     and knots, Gauss-Legendre (30 nodes) on every knot span and on a grid graded
     geometrically toward the corner `toward` (u, v), where |S_u x S_v| -> 0."""
-    from ..geometry.canopy import own_area
+    from ..oracles.nurbs import own_area
     from freecad_deform.geometry.nurbs.bspline_area import Surface
     full = [np.repeat(k, m) for k, m in ((surface.getUKnots(), surface.getUMultiplicities()),
                                          (surface.getVKnots(), surface.getVMultiplicities()))]
@@ -208,7 +208,7 @@ class TestRealSurfaces(AreaCase):
     collapsed pole row (a degenerate edge) and a degenerate corner, and real files."""
 
     def hood(self, nv):
-        from ..geometry.canopy import hood
+        from ..oracles.nurbs import hood
         obj = self.doc.addObject("Part::Feature", f"Hood{nv}")
         obj.Shape = Part.Face(part_surface(hood(18, nv)))
         self.doc.recompute()

@@ -14,7 +14,7 @@ import Part  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.dimension_drive import make_matching_drive  # noqa: E402
 
-from ..geometry.fit_oracles import circle  # noqa: E402
+from ..oracles.fits import circle  # noqa: E402
 
 V = App.Vector
 

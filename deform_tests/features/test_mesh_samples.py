@@ -3,7 +3,7 @@ Samples plane in time linear in Samples), through the document object.
 
 Oracles: FreeCAD's own mesh checks on the result (isSolid, hasNonManifolds, countComponents),
 a half-edge count and a float64 divergence-theorem volume written here, the number of pieces
-of the triangles crossing k planes (deform_tests/geometry/slab_oracles.expected_count) less two
+of the triangles crossing k planes (deform_tests/oracles/mesh.expected_count) less two
 per section segment shorter than the snapping distance, and the input's sections from
 FreeCAD's Mesh.crossSections, turned by a rotation written here.
 """
@@ -20,7 +20,7 @@ from scipy.spatial import cKDTree  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.planes import MAX_SAMPLES  # noqa: E402
 
-from ..geometry.slab_oracles import (distance_to_segments, expected_count,  # noqa: E402
+from ..oracles.mesh import (distance_to_segments, expected_count,  # noqa: E402
                                      section_segments)
 
 V = App.Vector

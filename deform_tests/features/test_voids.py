@@ -7,7 +7,7 @@ Pappus written here, the void shells' centres of mass, the Base's vertex toleran
 import unittest
 
 from . import fc
-from .test_stretch import section_area
+from ..oracles.shapes import section_area
 
 import FreeCAD as App  # noqa: E402
 import numpy as np  # noqa: E402

@@ -14,8 +14,8 @@ from freecad_deform.geometry.nurbs import area_constrain as ac
 from freecad_deform.geometry.nurbs.bspline_area import quadrature
 from freecad_deform.geometry.errors import DeformError
 
-from .canopy import canopy, cylinder_patch, hood, own_area
-from .mesh_oracles import converged_area
+from ..oracles.nurbs import canopy, cylinder_patch, hood, own_area
+from ..oracles.nurbs import converged_area
 
 
 def idx(s, i, j):

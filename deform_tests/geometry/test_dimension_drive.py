@@ -9,7 +9,8 @@ from freecad_deform.geometry.errors import DeformError
 from freecad_deform.geometry.mesh.regions import region_adjacency
 
 from .block_mesh import block_with_hole
-from .fit_oracles import circle, flips
+from ..oracles.fits import circle
+from ..oracles.mesh import flips
 
 TOP, BOTTOM, WALL, HOLE = (50, 5, 30), (50, 5, 0), (50, 0, 15), (58, 30, 15)
 FRAME = dict(origin=(0, 0, 30), axis_point=(1, 0, 30))

@@ -7,7 +7,8 @@ import numpy as np
 from freecad_deform.geometry.mesh import dimension_drive as dd
 
 from .block_mesh import block_with_hole
-from .fit_oracles import circle, flips, plane
+from ..oracles.fits import circle, plane
+from ..oracles.mesh import flips
 
 
 def test_thickness_then_radius_then_position_all_hold():

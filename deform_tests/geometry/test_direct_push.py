@@ -13,7 +13,7 @@ from scipy.interpolate import BSpline
 from freecad_deform.geometry.nurbs import direct_push as dp
 from freecad_deform.geometry.errors import DeformError
 
-from .canopy import canopy
+from ..oracles.nurbs import canopy
 
 
 def wavy(n=9, degree=3):

@@ -1,5 +1,5 @@
 """map_between's band cut at every Samples plane at once (mesh_sweep.slab_cut), without
-FreeCAD, against oracles written for the tests (slab_oracles, mesh_oracles): the number of
+FreeCAD, against oracles written for the tests (deform_tests/oracles/mesh.py): the number of
 pieces a triangle crossing k planes must give, half-edge counts, the input's sections (edge
 crossings) turned by scipy, and the divergence-theorem volume."""
 import numpy as np
@@ -11,8 +11,8 @@ from scipy.spatial.transform import Rotation
 from freecad_deform.geometry import DeformError
 from freecad_deform.geometry.mesh.sweep import map_between, twist_motion
 
-from .mesh_oracles import assert_closed_manifold, blob, volume
-from .slab_oracles import distance_to_segments, expected_count, section_segments
+from ..oracles.mesh import assert_closed_manifold, blob, volume
+from ..oracles.mesh import distance_to_segments, expected_count, section_segments
 
 BLOB = blob(300)
 

@@ -8,7 +8,7 @@ from freecad_deform.geometry.errors import DeformError
 from freecad_deform.geometry.mesh.cut import cut
 from freecad_deform.geometry.mesh.stretch import stretch_mesh
 
-from .mesh_oracles import assert_closed_manifold, blob, volume
+from ..oracles.mesh import assert_closed_manifold, blob, volume
 
 Z = np.array([0.0, 0.0, 1.0])
 LEVELS = [0.0, 0.7, 1.9, 3.0]                 # uneven rings, so cuts land inside wall quads

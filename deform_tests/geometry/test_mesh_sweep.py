@@ -9,8 +9,8 @@ from scipy.spatial.transform import Rotation
 
 from freecad_deform.geometry import DeformError
 
-from . import mesh_oracles as oracles
-from .mesh_oracles import blob, volume
+from ..oracles import mesh as oracles
+from ..oracles.mesh import blob, volume
 from freecad_deform.geometry.mesh.stretch import stretch_mesh
 from freecad_deform.geometry.mesh.sweep import (bend_motion, map_between, sweep_mesh,
                                                 twist_motion)

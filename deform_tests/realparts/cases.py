@@ -8,7 +8,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import oracles as orc
+from ..oracles import shapes as orc
 
 import FreeCAD as App  # noqa: E402
 import Part  # noqa: E402
@@ -262,7 +262,7 @@ SAMPLE = 20000
 
 
 def run_mesh(case, doc, floor):
-    from ..geometry import mesh_oracles as mo
+    from ..oracles import mesh as mo
     mesh = mesh_of(case.model)
     base = doc.addObject("Mesh::Feature", "Base")
     base.Mesh = mesh
@@ -452,7 +452,7 @@ def _drive_object(model, doc):
 
 
 def run_dimension(case, doc, floor):
-    from ..geometry import mesh_oracles as mo
+    from ..oracles import fits
     spec = DIMENSIONS[case.params.get("like", case.id)]
     model, kind, surfaces, target, origin, axis_point = spec
     target = case.params.get("target", target)
@@ -495,18 +495,18 @@ def run_dimension(case, doc, floor):
     errors["flipped"] = (float((np.einsum("ij,ij->i", n0, n1) <= 0).sum()), 0.5)
     fit_tol = 1e-6 * size + 4 * 1.2e-7 * np.abs(V0).max()   # float32 storage
     if kind == "Distance":
-        (na, ca, ra), (nb, cb, rb) = mo.plane_fit(V1[sel[0]]), mo.plane_fit(V1[sel[1]])
+        (na, ca, ra), (nb, cb, rb) = fits.plane_fit(V1[sel[0]]), fits.plane_fit(V1[sel[1]])
         if na @ nb < 0:
             nb, cb = -nb, -cb
         achieved = abs(ca - cb)
         errors["planes flat"] = (max(ra, rb), fit_tol)
         errors["parallel"] = (float(np.linalg.norm(np.cross(na, nb))), 1e-6)
     elif kind == "Radius":
-        _, _, achieved, rms = mo.cylinder_fit(V1[sel[0]], surfaces[0][2])
+        _, _, achieved, rms = fits.cylinder_fit(V1[sel[0]], surfaces[0][2])
         errors["cylinder round"] = (rms, fit_tol)
     else:
-        nb, cb, rb = mo.plane_fit(V1[sel[0]])
-        c, a, r, rms = mo.cylinder_fit(V1[sel[1]], surfaces[1][2])
+        nb, cb, rb = fits.plane_fit(V1[sel[0]])
+        c, a, r, rms = fits.cylinder_fit(V1[sel[1]], surfaces[1][2])
         foot = c + (cb - c @ nb) / (a @ nb) * a
         o = np.asarray(origin, float)
         eu = np.asarray(axis_point, float) - o
@@ -515,7 +515,7 @@ def run_dimension(case, doc, floor):
         ev = np.cross(nb, eu)
         achieved = float(np.linalg.norm([(foot - o) @ eu - target[0], (foot - o) @ ev - target[1]]))
         errors["hole round"] = (rms, fit_tol)
-        errors["hole radius kept"] = (abs(r - mo.cylinder_fit(V0[sel[1]], surfaces[1][2])[2]),
+        errors["hole radius kept"] = (abs(r - fits.cylinder_fit(V0[sel[1]], surfaces[1][2])[2]),
                                       fit_tol)
         target = 0.0
     errors["dimension"] = (abs(achieved - target), fit_tol)
@@ -563,7 +563,7 @@ def surface_cases():
 
 
 def surface_of(face):
-    """The arrays of a face's B-spline surface for mesh_oracles.bspline_area."""
+    """The arrays of a face's B-spline surface for oracles.nurbs.bspline_area."""
     S = face.Surface
     def flat(knots, mults):
         return np.repeat(knots, mults)
@@ -589,7 +589,7 @@ def _face_with_holes(shape):
 
 
 def run_surface(case, doc, floor):
-    from ..geometry import mesh_oracles as mo
+    from ..oracles import nurbs
     shape = shape_of(case.model)
     name = case.params["face"]
     if name == "holes":
@@ -622,13 +622,13 @@ def run_surface(case, doc, floor):
         new = min(cands, key=lambda f: np.linalg.norm(np.array(tuple(f.CenterOfMass)) - centre))
         before, after = surface_of(face), surface_of(new)
         if before[0].size < 30000:
-            a0, c0 = mo.converged_area(*before)
-            a1, c1 = mo.converged_area(*after)
+            a0, c0 = nurbs.converged_area(*before)
+            a1, c1 = nurbs.converged_area(*after)
         else:  # the terrain: the change, converged over the spans the moved poles reach
             ur, vr = _moved_support(before, after)
-            a0, c0 = mo.bspline_area(*before, nodes=6), 0.0   # 1e-6 of it is enough
-            d0, c0 = mo.converged_area_pieces(*before[:6], ur, vr)
-            d1, c1 = mo.converged_area_pieces(*after[:6], ur, vr)
+            a0, c0 = nurbs.bspline_area(*before, nodes=6), 0.0   # 1e-6 of it is enough
+            d0, c0 = nurbs.converged_area_pieces(*before[:6], ur, vr)
+            d1, c1 = nurbs.converged_area_pieces(*after[:6], ur, vr)
             if np.allclose(ur + vr, before[6] + before[7], rtol=0, atol=1e-9):
                 a0 = d0       # every interior pole moved: the change is the whole area's
             a1 = a0 + (d1 - d0)

@@ -1,16 +1,57 @@
-"""Oracles of the real-parts matrix, independent of the code under test: OCCT (slice, face
-maker, Volume, isValid, CenterOfMass), closed forms (A*d, Pappus) and fits written in
-deform_tests/geometry/mesh_oracles.py. Each returns numbers; cases.py compares them."""
+"""Oracles on FreeCAD shapes and meshes, independent of the code under test: OCCT (slice,
+face maker, common, Volume, isValid, CenterOfMass), closed forms (A*d, Pappus), the closed
+2-manifold check of a Mesh, and the real-parts matrix's measures. Each returns numbers;
+the tests compare them."""
 import numpy as np
 from scipy.spatial import cKDTree
 
 from ..features import fc
-from ..features.test_stretch import closed_manifold, mesh_section_area, section_area  # noqa: F401
 
 import FreeCAD as App  # noqa: E402
 import Part  # noqa: E402
 
 V = App.Vector
+
+
+def section_area(shape, origin, normal):
+    """Area of the shape's cross-section in the plane, from Shape.slice and a face maker."""
+    n = V(*normal).normalize()
+    wires = shape.slice(n, n.dot(V(*origin)))
+    return Part.makeFace(wires, "Part::FaceMakerBullseye").Area
+
+
+def slab_volume(shape, origin, normal, width):
+    """Volume of the part between the plane and the plane `width` beyond it (a common)."""
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    size = 4 * shape.BoundBox.DiagonalLength
+    box = Part.makeBox(size, size, width, V(-size / 2, -size / 2, 0))
+    box.Placement = App.Placement(V(*origin), App.Rotation(V(0, 0, 1), V(*n)))
+    return shape.common(box).Volume
+
+
+def mesh_section_area(mesh, origin, normal):
+    """Shoelace area of the mesh's cross-section polylines (Mesh.crossSections)."""
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    u = np.cross([0, 0, 1], n) if abs(n[2]) < 0.9 else np.cross([1, 0, 0], n)
+    u /= np.linalg.norm(u)
+    w = np.cross(n, u)
+    total = 0.0
+    for polyline in mesh.crossSections([(V(*origin), V(*n))])[0]:
+        p = np.array([tuple(q) for q in polyline]) - origin
+        x, y = p @ u, p @ w
+        total += 0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    return abs(total)
+
+
+def closed_manifold(mesh):
+    """Every undirected edge used by exactly two facets, once in each direction."""
+    _, facets = mesh.Topology
+    f = np.array(facets)
+    directed = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    undirected = np.sort(directed, axis=1)
+    _, counts = np.unique(undirected, axis=0, return_counts=True)
+    _, dcounts = np.unique(directed, axis=0, return_counts=True)
+    return bool(np.all(counts == 2) and np.all(dcounts == 1))
 
 
 def rotation(point, direction, degrees):
