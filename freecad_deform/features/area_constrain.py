@@ -1,48 +1,13 @@
 """AreaConstrain (Xu, Joneja & Tang 2009): move chosen poles of a B-spline face as little as
 possible (least squares) so its area is exactly the target. Knots, degrees and weights
-stay; a face of a shell or solid whose boundary poles stay put is replaced in it."""
+stay; a face of a shell or solid whose boundary poles stay put is replaced in it.
+The pipeline is ops.area_constrain."""
 import FreeCAD as App
-import numpy as np
-import Part
 
 from ..geometry.nurbs import area_constrain as ac
 from ..geometry.errors import DeformError
-from ..shapes import bspline
+from ..ops import area_constrain as op
 from .base import DeformFeature, Prop
-
-
-def parse_poles(entries, shape):
-    """Flat pole indices of "i,j" entries (1-based, as getPole); none: every interior pole,
-    or on a face with none (2 poles across: a ruled face) every pole but the corners."""
-    nu, nv = shape
-    if not entries:
-        if nu > 2 and nv > 2:
-            return [i * nv + j for i in range(1, nu - 1) for j in range(1, nv - 1)]
-        corners = {0, nv - 1, (nu - 1) * nv, nu * nv - 1}
-        free = [m for m in range(nu * nv) if m not in corners]
-        if not free:
-            raise DeformError(f"The face has only its {nu} x {nv} corner poles, and a corner "
-                              f"cannot move without tearing the face from its edges; list "
-                              f"corner poles in Poles to move them, or pick a face with "
-                              f"interior poles.", "Poles")
-        return free
-    flat = []
-    for entry in entries:
-        try:
-            i, j = (int(x) for x in str(entry).replace("(", "").replace(")", "").split(","))
-        except ValueError:
-            raise DeformError(f"Poles entry {entry!r} is not 'i,j'; correct Poles.", "Poles")
-        if not (1 <= i <= nu and 1 <= j <= nv):
-            raise DeformError(f"Poles: pole ({i}, {j}) is outside the {nu} x {nv} poles of "
-                              f"the face (1 to {nu}, 1 to {nv}); correct Poles.", "Poles")
-        flat.append((i - 1) * nv + (j - 1))
-    return sorted(set(flat))
-
-
-def on_boundary(flat, shape):
-    nu, nv = shape
-    i, j = np.divmod(np.asarray(flat), nv)
-    return bool(np.any((i == 0) | (i == nu - 1) | (j == 0) | (j == nv - 1)))
 
 
 class AreaConstrain(DeformFeature):
@@ -98,40 +63,12 @@ class AreaConstrain(DeformFeature):
              "(a boundary pole moved, or the Base is not one shell or solid).", output=True),
     )
 
-    def target(self, obj, original):
-        if obj.TargetRatio:
-            if obj.TargetRatio <= 0:
-                raise DeformError("TargetRatio must be positive (or 0 to use TargetArea).",
-                                  "TargetRatio")
-            return obj.TargetRatio * original
-        return obj.TargetArea.Value
-
-    def compute(self, obj, kind):
-        if kind != "Part":
+    def compute(self, obj, base_kind):
+        if base_kind != "Part":
             raise DeformError("Base must be a shape with a B-spline (or convertible) face.",
                               "Base")
-        shape = obj.Base.Shape
-        index, face = bspline.face_of(shape, obj.Face)
-        surface, note = bspline.bspline_of(face)
-        if "not exact" in note:
-            App.Console.PrintWarning(f"{obj.Label}: {obj.Face}: {note}.\n")
-        arrays = bspline.surface_arrays(surface)
-        movable = parse_poles(list(obj.Poles), arrays.weights.shape)
-        q = ac.area_quadrature(arrays, movable, obj.Dof, obj.Method)
-        original = q.area(arrays.poles)
-        solution = ac.constrain_surface_area(arrays, movable, self.target(obj, original),
-                                             obj.Dof, obj.Method, q)
-        new_surface = bspline.with_poles(surface, solution.poles)
-        new_face = Part.Face(new_surface)
-        result = None
-        if not on_boundary(movable, arrays.weights.shape):
-            result = bspline.replaced(shape, index, new_face)
-        moves = np.linalg.norm((solution.poles - arrays.poles).reshape(-1, 3), axis=1)
-        outputs = {"OriginalArea": original, "AchievedArea": solution.area,
-                   "AreaError": solution.error,
-                   "NormalFallbacks": [f"{i},{j}" for i, j in solution.fallbacks],
-                   "HeldPoles": [f"{i},{j}" for i, j in solution.held],
-                   "Iterations": solution.iterations, "MaxPoleMove": float(moves.max()),
-                   "KKTResidual": solution.kkt, "Conversion": note,
-                   "Replaced": result is not None}
-        return (result if result is not None else new_face), outputs
+        result, outputs = op.face(obj.Base.Shape, obj.Face, obj.TargetArea.Value,
+                                  obj.TargetRatio, list(obj.Poles), obj.Dof, obj.Method)
+        if "not exact" in outputs["Conversion"]:
+            App.Console.PrintWarning(f"{obj.Label}: {obj.Face}: {outputs['Conversion']}.\n")
+        return result, outputs

@@ -7,27 +7,19 @@ Base mesh, FeatureAngle and HandleTolerance; it is kept on the proxy (not saved)
 new Target costs one sparse product.
 """
 import hashlib
-import re
 
 import FreeCAD as App
 import numpy as np
 
-from ..geometry.mesh import dimension_drive as dd
-from ..geometry.mesh import volume_drive as vd
 from ..geometry.errors import DeformError
-from ..shapes.convert import mesh_arrays, moved_mesh, tessellated
-from ..shapes.fem import fem_arrays, fem_with_nodes, is_fem_mesh
+from ..geometry.mesh import dimension_drive as dd
+from ..geometry.mesh.regions import region_colours
+from ..ops import dimension_drive as op
+from ..shapes.convert import mesh_arrays, tessellated
+from ..shapes.fem import fem_arrays, is_fem_mesh
 from .base import DeformFeature, Prop
 
-DEFAULT_FEATURE_ANGLE = 40.0   # degrees; FreeCAD tessellates cylinders at <= 28.6 degrees
-
-
-def region_colours(labels):
-    """A distinct float RGB per region label (golden-ratio hues), one per triangle."""
-    hue = (np.arange(labels.max() + 1) * 0.618034) % 1.0
-    k = (np.array([5.0, 3.0, 1.0])[None, :] + hue[:, None] * 6.0) % 6.0
-    rgb = 0.92 - 0.62 * np.clip(np.minimum(k, 4.0 - k), 0.0, 1.0)
-    return [tuple(float(c) for c in rgb[i]) for i in labels]
+DEFAULT_FEATURE_ANGLE = op.DEFAULT_FEATURE_ANGLE
 
 
 class DimensionDrive(DeformFeature):
@@ -40,7 +32,7 @@ class DimensionDrive(DeformFeature):
              "Distance: between two parallel planes (the first picked moves). Radius: of a "
              "cylinder. Position: of a feature on a base plane, in the (Origin, AxisPoint) "
              "frame. Angle: between two planes (the first turns about the line where they "
-             "meet), in TargetAngle.", list(dd.KINDS)),
+             "meet), in TargetAngle.", list(op.KINDS)),
         Prop("App::PropertyVectorList", "Regions", "Dimension",
              "Points on the mesh, each picking the region nearest it. Distance: moving plane, "
              "reference plane. Radius: the cylinder. Position: base plane, feature (then "
@@ -97,26 +89,23 @@ class DimensionDrive(DeformFeature):
         raise DeformError(f"Base {base.Label} is not a mesh or a solid; link one.", "Base")
 
     def model(self, obj):
-        """The DimensionModel of the Base, reused while the Base and handle settings hold."""
+        """The handle of the Base (ops.dimension_drive.handle), reused while the Base and
+        the handle settings hold."""
         V, T, mesh = self.base_mesh(obj)
-        return self.cached_model(obj, V.tobytes() + T.tobytes(), dd.DimensionModel, V, T), mesh
+        return self.cached_model(obj, V.tobytes() + T.tobytes(), op.handle, op.HANDLE_STEPS, V, T), mesh
 
-    def cached_model(self, obj, data, model_class, *arrays):
-        """model_class(*arrays, feature angle, handle tolerance, progress), built once for
-        `data` (the Base's arrays as bytes) and the handle settings."""
+    def cached_model(self, obj, data, build, steps, *arrays):
+        """build(*arrays, FeatureAngle, HandleTolerance, progress) (progress called `steps`
+        times), built once for `data` (the Base's arrays as bytes) and the handle settings."""
         key = hashlib.blake2b(data + np.array(
             [obj.FeatureAngle.Value, obj.HandleTolerance.Value]).tobytes()).hexdigest()
         cached = getattr(self, "_cache", None)
         if cached is None or cached[0] != key:
-            angle = obj.FeatureAngle.Value
-            if not 0 < angle < 180:
-                raise DeformError("FeatureAngle must be between 0 and 180 degrees.",
-                                  "FeatureAngle")
             bar = App.Base.ProgressIndicator()
-            bar.start(f"{obj.Label}: building the deformation handle", model_class.STEPS)
+            bar.start(f"{obj.Label}: building the deformation handle", steps)
             try:
-                model = model_class(*arrays, np.radians(angle),
-                                    obj.HandleTolerance.Value or None, bar.next)
+                model = build(*arrays, obj.FeatureAngle.Value, obj.HandleTolerance.Value,
+                              bar.next)
             finally:
                 bar.stop()
             self._cache = cached = (key, model)
@@ -132,39 +121,27 @@ class DimensionDrive(DeformFeature):
         if len(obj.Regions) == 0:
             self.show_base(obj, mesh)
             raise DeformError("Regions is empty; pick the regions of the dimension.", "Regions")
-        picks = [tuple(p) for p in obj.Regions]
-        target = obj.Target.Value
-        if obj.Kind == "Angle":
-            target = obj.TargetAngle.Value
-        elif obj.Kind == "Position":
-            target = (target, obj.TargetV.Value)
+        target = op.target_of(obj.Kind, obj.Target.Value, obj.TargetV.Value,
+                              obj.TargetAngle.Value)
         try:
-            drive = self.drive(model, obj.Kind, picks, target, tuple(obj.Origin),
-                               tuple(obj.AxisPoint))
-            self._report(obj, "Current", drive.current)
-            lo, hi = drive.reach
-            obj.Reachable = (list(dd.reach_values(drive)) if len(drive.current) == 1
-                             else [lo, hi])
-            vertices = self.deformed(model, drive)
+            result, outputs = self.drive(model, mesh, obj.Kind, obj.Regions, target,
+                                         obj.Origin, obj.AxisPoint)
         except DeformError as e:
-            if obj.Kind == "Angle" and e.prop == "Target":   # the angle lives in TargetAngle
-                raise DeformError(re.sub(r"\bTarget\b", "TargetAngle", str(e)),
-                                  "TargetAngle") from None
+            for name, value in getattr(e, "outputs", {}).items():
+                setattr(obj, name, value)
             raise
-        if drive.strained:
+        strained = outputs.pop("Strained")
+        if strained:
             App.Console.PrintWarning(
-                f"{obj.Label}: {drive.strained} corner(s) of the moving plane meet faces that "
+                f"{obj.Label}: {strained} corner(s) of the moving plane meet faces that "
                 "cannot all stay planes or cylinders; they were kept as nearly as possible.\n")
-        self.store(obj, model, mesh, vertices)
-        self._report(obj, "Achieved", drive.measure(vertices))
+        self.store(obj, result)
+        for name, value in outputs.items():
+            setattr(obj, name, value)
 
     @staticmethod
-    def drive(model, kind, picks, target, origin, axis_point):
-        return dd.drive(model, kind, picks, target, origin, axis_point)
-
-    @staticmethod
-    def deformed(model, drive):
-        return dd.deformed(model, drive)
+    def drive(model, mesh, *args):
+        return op.mesh(model, mesh, *args)
 
     @staticmethod
     def show_base(obj, mesh):
@@ -172,13 +149,8 @@ class DimensionDrive(DeformFeature):
             obj.Mesh = mesh.copy()   # nothing to keep yet: show the Base to pick on
 
     @staticmethod
-    def store(obj, model, mesh, vertices):
-        obj.Mesh = moved_mesh(mesh, vertices)
-
-    @staticmethod
-    def _report(obj, name, value):
-        setattr(obj, name, float(value[0]))
-        setattr(obj, name + "V", float(value[1]) if len(value) > 1 else 0.0)
+    def store(obj, result):
+        obj.Mesh = result
 
 
 class DimensionDriveFem(DimensionDrive):
@@ -209,17 +181,14 @@ class DimensionDriveFem(DimensionDrive):
         femmesh = base.FemMesh
         ids, nodes, _, elements = fem_arrays(femmesh)
         model = self.cached_model(obj, ids.tobytes() + nodes.tobytes() + elements.tobytes(),
-                                  vd.VolumeModel, nodes, elements)
+                                  op.fem_handle, op.FEM_HANDLE_STEPS,
+                                  nodes, elements)
         obj.QualityBefore = model.quality()
         return model, (femmesh, ids)
 
     @staticmethod
-    def drive(model, kind, picks, target, origin, axis_point):
-        return model.drive(kind, picks, target, origin, axis_point)
-
-    @staticmethod
-    def deformed(model, drive):
-        return model.deformed(drive)
+    def drive(model, mesh, *args):
+        return op.fem(model, *mesh, *args)
 
     @staticmethod
     def show_base(obj, mesh):
@@ -227,10 +196,8 @@ class DimensionDriveFem(DimensionDrive):
             obj.FemMesh = mesh[0].copy()
 
     @staticmethod
-    def store(obj, model, mesh, vertices):
-        femmesh, ids = mesh
-        obj.FemMesh = fem_with_nodes(femmesh, ids, vertices)
-        obj.QualityAfter = model.quality(vertices)
+    def store(obj, result):
+        obj.FemMesh = result
 
 
 def proxy_for(base):

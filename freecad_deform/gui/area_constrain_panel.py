@@ -10,7 +10,7 @@ semi-transparent under the result, so the new surface is seen over the old one.
 import FreeCADGui as Gui
 from PySide import QtGui
 
-from ..features.area_constrain import parse_poles
+from ..geometry.nurbs.area_constrain import parse_poles
 from ..shapes.bspline import bspline_of, face_of
 from .compat import event_position
 from .dimension_drive_panel import length_text, spin_box

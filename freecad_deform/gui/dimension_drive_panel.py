@@ -15,8 +15,8 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
-from ..features.dimension_drive import region_colours
-from ..geometry.mesh import dimension_drive as dd
+from ..geometry.mesh.regions import region_colours
+from ..ops import dimension_drive as op
 from .task_panel import (TaskPanelBase, on_value_changed, quantity_spin_box, results_box,
                          set_spin_value, spin_value)
 
@@ -85,10 +85,8 @@ def measured(obj):
     model = model_of(obj)
     if model is None:
         return None
-    probe = (0.0, 0.0) if obj.Kind == "Position" else 1.0  # any valid target
     try:
-        return dd.drive(model, obj.Kind, [tuple(p) for p in obj.Regions], probe,
-                        tuple(obj.Origin), tuple(obj.AxisPoint)).current
+        return op.measure(model, obj.Kind, obj.Regions, tuple(obj.Origin), tuple(obj.AxisPoint))
     except Exception:
         return None
 

@@ -21,7 +21,7 @@ from .simplify import simplify
 
 KINDS = ("Distance", "Radius", "Position", "Angle")
 FIT_TOLERANCE = 1e-4   # a region is a plane / cylinder when its fit deviates less (x size)
-SIMPLIFY_TOLERANCE = 5e-3  # handle simplification error (x size)
+HANDLE_TOLERANCE = 5e-3  # handle simplification error (x size)
 PARALLEL = 1e-3        # radians: two planes closer than this are parallel
 SOFT = 1e3             # weight of leaving a free-form region, against 1 for rounding a cylinder
 
@@ -107,7 +107,7 @@ class DimensionModel:
 
     STEPS = 4  # progress() is called after segmenting, fitting, simplifying, binding
 
-    def __init__(self, vertices, triangles, feature_angle, simplify_tolerance=None,
+    def __init__(self, vertices, triangles, feature_angle, handle_tolerance=None,
                  progress=lambda: None):
         self.vertices = np.asarray(vertices, float)
         self.triangles = np.asarray(triangles, np.int64)
@@ -126,7 +126,7 @@ class DimensionModel:
         self.planar = np.array([p.rms <= self.tolerance for p in self.planes])
         self._cylinders = {}
         progress()
-        tol = (simplify_tolerance if simplify_tolerance else SIMPLIFY_TOLERANCE * self.size)
+        tol = (handle_tolerance if handle_tolerance else HANDLE_TOLERANCE * self.size)
         self.simplified = simplify(V, T, self.labels, tol)
         progress()
         self.handle = build_handle(V, T, self.labels, self.planar, self.simplified)
@@ -565,7 +565,7 @@ def deformed(model, result):
     through itself."""
     lo, hi = result.reach
     if not lo < result.step < hi:
-        raise DeformError(f"Target is beyond the deformable range: {_range_text(result)}; "
+        raise DeformError(f"Target is beyond the deformable range: {range_text(result)}; "
                           "beyond it triangles flip. Change Target.", "Target")
     clear_of_self(model.vertices, model.triangles, result)
     return model.vertices + result.step * result.field
@@ -600,7 +600,8 @@ def clear_of_self(vertices, triangles, result):
                       "Target")
 
 
-def _range_text(result):
+def range_text(result):
+    """The reachable range of a Drive, in words for a refusal."""
     lo, hi = result.reach
     if len(result.current) == 1:
         low, high = reach_values(result)

@@ -73,3 +73,12 @@ def vertex_regions(n_vertices, triangles, labels):
     m = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n_vertices, k)).tocsr()
     m.sum_duplicates()
     return m
+
+
+def region_colours(labels):
+    """A distinct float RGB per region label (golden-ratio hues), one per triangle."""
+    labels = np.asarray(labels)
+    hue = (np.arange(labels.max() + 1) * 0.618034) % 1.0
+    k = (np.array([5.0, 3.0, 1.0])[None, :] + hue[:, None] * 6.0) % 6.0
+    rgb = 0.92 - 0.62 * np.clip(np.minimum(k, 4.0 - k), 0.0, 1.0)
+    return [tuple(float(c) for c in rgb[i]) for i in labels]

@@ -16,7 +16,7 @@ class VolumeModel:
 
     STEPS = dd.DimensionModel.STEPS + 1
 
-    def __init__(self, nodes, elements, feature_angle, simplify_tolerance=None,
+    def __init__(self, nodes, elements, feature_angle, handle_tolerance=None,
                  progress=lambda: None):
         self.nodes = np.asarray(nodes, float)
         self.elements = np.asarray(elements, np.int64)
@@ -29,7 +29,7 @@ class VolumeModel:
         index = np.full(len(self.nodes), -1)
         index[self.boundary] = np.arange(len(self.boundary))
         self.surface = dd.DimensionModel(self.nodes[self.boundary], index[triangles],
-                                         feature_angle, simplify_tolerance, progress)
+                                         feature_angle, handle_tolerance, progress)
         self.extension = vm.Extension(self.nodes, self.elements, self.boundary)
         progress()
 
@@ -54,7 +54,7 @@ class VolumeModel:
         """The moved nodes, or DeformError naming Target when an element would invert."""
         lo, hi = drive.reach
         if not lo < drive.step < hi:
-            raise DeformError(f"Target is beyond the deformable range: {dd._range_text(drive)}; "
+            raise DeformError(f"Target is beyond the deformable range: {dd.range_text(drive)}; "
                               "beyond it tetrahedra invert or boundary triangles flip. "
                               "Change Target.", "Target")
         surface = self.surface

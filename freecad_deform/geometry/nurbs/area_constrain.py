@@ -525,3 +525,40 @@ def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagra
         if not finer:
             return sol._replace(error=q.error, iterations=iterations)
     raise _stalled((LargeProblem if grid else Problem)(q, surface.poles, movable, dof), target)
+
+
+# --- the poles the Poles property names ------------------------------------------------
+
+def parse_poles(entries, shape):
+    """Flat pole indices of "i,j" entries (1-based, as getPole); none: every interior pole,
+    or on a face with none (2 poles across: a ruled face) every pole but the corners."""
+    nu, nv = shape
+    if not entries:
+        if nu > 2 and nv > 2:
+            return [i * nv + j for i in range(1, nu - 1) for j in range(1, nv - 1)]
+        corners = {0, nv - 1, (nu - 1) * nv, nu * nv - 1}
+        free = [m for m in range(nu * nv) if m not in corners]
+        if not free:
+            raise DeformError(f"The face has only its {nu} x {nv} corner poles, and a corner "
+                              f"cannot move without tearing the face from its edges; list "
+                              f"corner poles in Poles to move them, or pick a face with "
+                              f"interior poles.", "Poles")
+        return free
+    flat = []
+    for entry in entries:
+        try:
+            i, j = (int(x) for x in str(entry).replace("(", "").replace(")", "").split(","))
+        except ValueError:
+            raise DeformError(f"Poles entry {entry!r} is not 'i,j'; correct Poles.", "Poles")
+        if not (1 <= i <= nu and 1 <= j <= nv):
+            raise DeformError(f"Poles: pole ({i}, {j}) is outside the {nu} x {nv} poles of "
+                              f"the face (1 to {nu}, 1 to {nv}); correct Poles.", "Poles")
+        flat.append((i - 1) * nv + (j - 1))
+    return sorted(set(flat))
+
+
+def on_boundary(flat, shape):
+    """Whether any of the flat pole indices is on the border of the (nu, nv) net."""
+    nu, nv = shape
+    i, j = np.divmod(np.asarray(flat), nv)
+    return bool(np.any((i == 0) | (i == nu - 1) | (j == 0) | (j == nv - 1)))

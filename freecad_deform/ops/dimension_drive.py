@@ -1,0 +1,110 @@
+"""DimensionDrive (Date & Onosato 2008): change a plane distance, a cylinder radius, an
+angle between planes or a feature position of a triangle mesh (or of the boundary of a
+tetrahedral FEM mesh, its interior following); the mesh follows through a prism handle,
+same topology, no remeshing.
+
+handle() / fem_handle() build the handle of a mesh once (segmentation, fits,
+simplification, Warren coordinates: it depends only on the mesh, feature_angle and
+handle_tolerance); mesh() / fem() then drive one dimension to a target for one sparse
+product, giving (result, outputs). A refusal raised after the dimension was measured
+carries the outputs known by then in its `outputs` attribute.
+"""
+import re
+
+import numpy as np
+
+from ..geometry.errors import DeformError
+from ..geometry.mesh import dimension_drive as dd
+from ..geometry.mesh import volume_drive as vd
+from ..shapes.convert import moved_mesh
+from ..shapes.fem import fem_with_nodes
+
+DEFAULT_FEATURE_ANGLE = 40.0   # degrees; FreeCAD tessellates cylinders at <= 28.6 degrees
+KINDS = dd.KINDS               # the kinds of dimension: the values of the Kind property
+HANDLE_STEPS = dd.DimensionModel.STEPS   # progress() calls while handle() builds
+FEM_HANDLE_STEPS = vd.VolumeModel.STEPS  # and while fem_handle() builds
+
+
+def _radians(feature_angle):
+    if not 0 < feature_angle < 180:
+        raise DeformError("FeatureAngle must be between 0 and 180 degrees.", "FeatureAngle")
+    return np.radians(feature_angle)
+
+
+def handle(vertices, triangles, feature_angle=DEFAULT_FEATURE_ANGLE, handle_tolerance=0.0,
+           progress=lambda: None):
+    """The handle of a triangle mesh (a geometry.mesh.dimension_drive.DimensionModel):
+    feature_angle in degrees, handle_tolerance in mm (0: 0.5 % of the mesh size);
+    progress() is called after each of its STEPS."""
+    return dd.DimensionModel(vertices, triangles, _radians(feature_angle),
+                             handle_tolerance or None, progress)
+
+
+def fem_handle(nodes, elements, feature_angle=DEFAULT_FEATURE_ANGLE, handle_tolerance=0.0,
+               progress=lambda: None):
+    """The handle of a tetrahedral mesh (a geometry.mesh.volume_drive.VolumeModel): its
+    boundary's handle and the harmonic extension to the interior nodes."""
+    return vd.VolumeModel(nodes, elements, _radians(feature_angle), handle_tolerance or None,
+                          progress)
+
+
+def target_of(kind, target=0.0, target_v=0.0, target_angle=0.0):
+    """The kernel's target for a kind: the angle for Angle, (u, v) for Position, else Target."""
+    if kind == "Angle":
+        return target_angle
+    if kind == "Position":
+        return (target, target_v)
+    return target
+
+
+def measure(model, kind, regions, origin=None, axis_point=None):
+    """The dimension the regions have on the mesh: (value,) or (u, v)."""
+    probe = (0.0, 0.0) if kind == "Position" else 1.0  # any valid target
+    surface = getattr(model, "surface", model)
+    return dd.drive(surface, kind, [tuple(p) for p in regions], probe, origin,
+                    axis_point).current
+
+
+def _values(name, value):
+    return {name: float(value[0]), name + "V": float(value[1]) if len(value) > 1 else 0.0}
+
+
+def _moved(model, drive, deformed, kind, regions, target, origin, axis_point):
+    """(moved vertices, outputs) of one drive: Current(V), Reachable, Achieved(V), and
+    Strained (the corners that could not keep all their planes and cylinders)."""
+    outputs = {}
+    regions = [tuple(p) for p in regions]
+    origin = None if origin is None else tuple(origin)
+    axis_point = None if axis_point is None else tuple(axis_point)
+    try:
+        result = drive(model, kind, regions, target, origin, axis_point)
+        outputs.update(_values("Current", result.current))
+        lo, hi = result.reach
+        outputs["Reachable"] = (list(dd.reach_values(result)) if len(result.current) == 1
+                                else [lo, hi])
+        vertices = deformed(model, result)
+    except DeformError as e:
+        if kind == "Angle" and e.prop == "Target":   # the angle lives in TargetAngle
+            e = DeformError(re.sub(r"\bTarget\b", "TargetAngle", str(e)), "TargetAngle")
+        e.outputs = outputs
+        raise e from None
+    outputs.update(_values("Achieved", result.measure(vertices)), Strained=result.strained)
+    return vertices, outputs
+
+
+def mesh(model, base_mesh, kind, regions, target, origin=None, axis_point=None):
+    """(the Mesh moved, outputs): the dimension `kind` of the regions (points on the mesh,
+    each picking the region nearest it) driven to `target` (target_of); `model` is
+    handle() of base_mesh's vertices and triangles."""
+    vertices, outputs = _moved(model, dd.drive, dd.deformed, kind, regions, target, origin,
+                               axis_point)
+    return moved_mesh(base_mesh, vertices), outputs
+
+
+def fem(model, femmesh, ids, kind, regions, target, origin=None, axis_point=None):
+    """(the FemMesh with its nodes moved, outputs) as mesh(), `model` fem_handle() of its
+    nodes (numbered by ids) and elements; outputs add QualityAfter."""
+    nodes, outputs = _moved(model, lambda m, *a: m.drive(*a), lambda m, d: m.deformed(d),
+                            kind, regions, target, origin, axis_point)
+    outputs["QualityAfter"] = model.quality(nodes)
+    return fem_with_nodes(femmesh, ids, nodes), outputs
