@@ -174,24 +174,19 @@ def make_direct_push(base, element, point, target, **options):
     """Push `point` of `element` ("EdgeN" or "FaceN" of base) to `target`; the poles and
     knots follow (point and target None: no push yet). Options: range (the paper's m), fixed=[points], straight=[(point_a,
     point_b)], angles=[(corner, degrees, leg_before, leg_after)], blend=["EdgeN", ...] (faces
-    of a solid: Pratt's C1 rounding of those edges)."""
+    of a solid: Pratt's C1 rounding of those edges); other options are properties in
+    snake_case."""
     pushes = [] if point is None and target is None else [(point, target)]
     values = {"Element": str(element), "Points": _vectors([p for p, _ in pushes]),
               "Targets": _vectors([t for _, t in pushes])}
-    if "range" in options:
-        values["Range"] = int(options.pop("range"))
-    if "fixed" in options:
-        values["Fixed"] = _vectors(options.pop("fixed"))
-    if "straight" in options:
-        values["Straight"] = _vectors([p for pair in options.pop("straight") for p in pair])
-    if "angles" in options:
-        values["Angles"] = [App.Vector(*v) for corner, degrees, before, after in
-                            options.pop("angles")
-                            for v in (tuple(corner), (degrees, before, after))]
-    if "blend" in options:
-        values["Blend"] = [str(e) for e in options.pop("blend")]
-    if options:
-        raise TypeError(f"make_direct_push() got unknown options {sorted(options)}")
+    packed = {"range": int, "fixed": _vectors, "blend": lambda edges: [str(e) for e in edges],
+              "straight": lambda spans: _vectors([p for pair in spans for p in pair]),
+              "angles": lambda angles: [App.Vector(*v) for corner, degrees, before, after
+                                        in angles for v in (tuple(corner),
+                                                            (degrees, before, after))]}
+    options = {name: packed[name](value) if name in packed else value
+               for name, value in options.items()}
+    values.update(_options(DirectPush, "make_direct_push", options))
     return _make(DirectPush, base, values)
 
 
