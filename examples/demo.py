@@ -1,6 +1,6 @@
-"""The `make demo` job: Stretch, Bend and Twist features on real models, exported, pictured and checked.
+"""The `make demo` job: every Deform feature on real models, exported, pictured and checked.
 
-    /usr/bin/python3 examples/demo.py [OUTPUT_DIR]        # default: <repo>/demo_out/
+    /usr/bin/python3 examples/demo.py [OUTPUT_DIR] [--quick]  # default: <repo>/demo_out/
     DEFORM_DEMO_OUT=/tmp/out freecadcmd examples/demo.py   # freecadcmd takes no script options
 
 Builds one document from ../shared/testdata (relative to the repo root):
@@ -16,6 +16,14 @@ Builds one document from ../shared/testdata (relative to the repo root):
   MeshBend     the mesh of the part, bent like Bend
   BladeStretch a turbine-blade-like point cloud (Wu & Ilies, Fig. 9): its airfoil extended 3x
   BladeTwist   ... then twisted by 30 deg, the centroids of its cross-sections on the vertical
+  Taper        a 60 x 40 x 150 bar scaled to 0.6 across its axis between z = 40 and z = 110
+  DimensionDrive  fandisk.obj: the distance between two parallel faces driven 4.8279 -> 4.65 mm
+  AreaConstrain   splinecage.stp Face2 given 103 % of its area (least pole movement)
+  DirectPush      a point of splinecage.stp Face2 pushed along its normal
+
+`--quick` runs one section per feature (Stretch, Bend, Twist and the four above) and the
+reopen; report.md opens with the features table (feature, base, inputs, outputs, valid,
+seconds, the oracle and its relative error), report.json holds it as "features".
 
 Writes demo.FCStd, one STEP per solid result, STL for the meshes, PLY for the clouds,
 before/after PNGs and report.md / report.json. Every invariant is measured against an
@@ -469,6 +477,7 @@ class Demo:
 
     def __init__(self, out):
         self.out, self.rep, self.timings, self.exports = out, Report(), {}, []
+        self.features, self.seconds = [], 0.0
         self.sample_path = os.path.join(TESTDATA, "face_recognition_sample_part.stp")
         self.as1_path = os.path.join(TESTDATA, "as1_pe_203.stp")
         for path in (self.sample_path, self.as1_path):
@@ -507,7 +516,16 @@ class Demo:
             raise RuntimeError(f"{label} is in error: {status}")
         self.timings[f"{label}: {maker} (create + recompute)"] = t
         self.timings[f"{label}: recompute"] = recompute_time(self.doc, obj)
+        self.seconds = t
         return obj
+
+    def feature_row(self, feature, base, inputs, outputs, valid, oracle, error, tol):
+        """One row of the features table: the result checked against its oracle (relative
+        error `error`, passing at `tol`); the section's checks must pass too."""
+        self.features.append({"feature": feature, "base": base, "inputs": inputs,
+                              "outputs": outputs, "valid": bool(valid), "seconds": self.seconds,
+                              "oracle": oracle, "error": float(error), "tolerance": tol,
+                              "section": len(self.rep.sections) - 1})
 
     def export_step(self, obj, name):
         obj.Shape.exportStep(os.path.join(self.out, name))
@@ -528,6 +546,11 @@ class Demo:
         rep.fact("VolumeChange (mm^3)", obj.VolumeChange)
         rep.fact("Continuity", obj.Continuity)
         stretch_checks(rep, shape, obj, origin, normal, distance)
+        area = section_area(shape, origin, normal)
+        self.feature_row("Stretch", "face_recognition_sample_part.stp", "Distance 40 mm at x = 150",
+                         f"VolumeChange {obj.VolumeChange:.6g} mm^3", obj.Shape.isValid(),
+                         "A x d (A: Shape.slice section)",
+                         abs(obj.VolumeChange - area * distance) / (area * distance), REL)
         self.export_step(obj, "stretch.step")
         self.picture("stretch.png", "Stretch: +40 mm along +X at x = 150",
                      [solid_panel(shape, "before"), solid_panel(obj.Shape, "after")],
@@ -742,6 +765,11 @@ class Demo:
                   "revolution", sorted(set(face_types(result)) - REVOLUTION), [],
                   note="a revolve is exact: no B-spline")
         rigid_check(rep, shape, result, origin, normal, lambda p: rodrigues(p, *axis, angle))
+        self.feature_row("Bend", "face_recognition_sample_part.stp",
+                         "Angle -60 deg at x = 150, axis (150, 0, 260) along +Y",
+                         f"VolumeChange {obj.VolumeChange:.6g} mm^3", result.isValid(),
+                         "Pappus (section area x centroid radius x angle)",
+                         abs(result.Volume - shape.Volume - volume) / volume, REL)
         mid = rodrigues(normal, np.zeros(3), axis[1], angle / 2)[0]
         rep.check("section area at half the angle (the plane through the axis turned by -30 deg)",
                   section_area(result, axis[0], mid), sec.Area, rel=REL)
@@ -834,6 +862,11 @@ class Demo:
                   note="profile 8 of 16 lies there")
         rep.check("length along Z kept", result.BoundBox.ZLength, bar.BoundBox.ZLength, rel=1e-9)
         rigid_check(rep, bar, result, o1, normal, lambda p: rodrigues(p, *axis, angle), gap=gap)
+        self.feature_row("Twist", "60 x 20 x 150 bar (made here)",
+                         "Angle 90 deg between z = 40 and z = 110, Samples 16",
+                         f"VolumeChange {obj.VolumeChange:.3g} mm^3", result.isValid(),
+                         "mid-span section = the bar's corners turned 45 deg (Rodrigues), mm",
+                         err, 1e-6)
         continuity_check(rep, bar, obj, [o1, o2], normal, fractions=np.linspace(0.05, 0.95, 7),
                          tangent=lambda p: normal + np.radians(angle) / gap * np.cross(
                              axis[1], p - axis[0]))
@@ -967,7 +1000,181 @@ class Demo:
                                              ("after", "points", twisted)],
                      [(np.zeros(3), Z), (span * Z, Z)], [(np.zeros(3), Z), (top * Z, Z)], (32, -60))
 
-    # -- 12. save, reopen, recompute: the same results
+    # -- 12. Taper: a bar's middle scaled to 0.6 across its axis
+    def taper(self):
+        rep = self.rep
+        o1, o2, normal, scale = np.array([0, 0, 40.0]), np.array([0, 0, 110.0]), Z, 0.6
+        size, length, gap = (60.0, 40.0), 150.0, 70.0
+        rep.section("Taper", "A 60 x 40 x 150 mm bar whose region between z = 40 and z = 110 is "
+                    "scaled across its axis (the Plane normal through the section centroid) "
+                    "linearly from 1 to 0.6 (Profile Linear); the part above z = 110 is scaled "
+                    "by 0.6 across the axis and moved with the region's end.")
+        base = self.doc.addObject("Part::Feature", "TaperBar")
+        base.Shape = bar = Part.makeBox(size[0], size[1], length)
+        obj = self.make("Taper", "make_taper", lambda: fd.make_taper(
+            base, (V(*o1), V(*normal)), (V(*o2), V(*normal)), scale))
+        result = obj.Shape
+        area = size[0] * size[1]
+        # the section scales by s(t)^2, s = 1 + (S - 1) t: the region holds A L (1 + (S - 1)
+        # + (S - 1)^2 / 3), the part beyond A S^2 x its length
+        closed = area * (o1[2] + gap * (1 + (scale - 1) + (scale - 1) ** 2 / 3)
+                         + scale ** 2 * (length - o2[2]))
+        rep.fact("faces before / after", f"{len(bar.Faces)} / {len(result.Faces)}")
+        rep.fact("face types after", face_type_counts(result))
+        rep.fact("MaxDeviation (mm)", obj.MaxDeviation)
+        rep.check("Volume = A (40 + 70 (1 + (S - 1) + (S - 1)^2 / 3) + S^2 x 40) (closed form)",
+                  result.Volume, closed, rel=REL)
+        rep.check("isValid()", result.isValid(), True)
+        rep.check("number of solids", len(result.Solids), 1)
+        for z, s_ in ((20.0, 1.0), (75.0, 1 + (scale - 1) * 0.5), (110.0, scale), (130.0, scale)):
+            rep.check(f"section area at z = {z:g} = A x {s_:g}^2 (Shape.slice)",
+                      section_area(result, np.array([0, 0, z]), normal), area * s_ ** 2, rel=REL)
+        rep.check("length along Z kept", result.BoundBox.ZLength, length, rel=1e-9)
+        self.feature_row("Taper", "60 x 40 x 150 bar (made here)",
+                         "Scale 0.6 between z = 40 and z = 110",
+                         f"MaxDeviation {obj.MaxDeviation:.2g} mm", result.isValid(),
+                         "closed-form volume (section scaled by s(t)^2)",
+                         abs(result.Volume - closed) / closed, REL)
+        self.export_step(obj, "taper.step")
+        self.picture("taper.png", "Taper: a 60 x 40 x 150 bar, scale 0.6 between z = 40 and "
+                     "z = 110", [solid_panel(bar, "before"), solid_panel(result, "after")],
+                     [(o1, normal), (o2, normal)], [(o1, normal), (o2, normal)], (18, -60))
+
+    # -- 13. DimensionDrive: the fandisk's thickness 4.8279 -> 4.65
+    def dimension_drive(self):
+        import Mesh
+        from deform_tests.oracles import fits
+        rep = self.rep
+        target = 4.65
+        hints = np.array([[4.83, 15.63, -0.29], [0.0, 14.98, -1.31]])   # moving, reference
+        planes = [(np.array([4.8279, 0, 0]), X), (np.zeros(3), -X)]
+        rep.section("DimensionDrive", "fandisk.obj (the CAD part mesh of the dimension paper, "
+                    "12,946 triangles): the distance between the plane x = 4.8279 and the plane "
+                    "x = 0 driven to 4.65 mm (Kind Distance); the regions are picked by the "
+                    "triangle centres nearest two points on those faces.")
+        base = self.doc.addObject("Mesh::Feature", "Fandisk")
+        base.Mesh = Mesh.Mesh(os.path.join(TESTDATA, "fandisk.obj"))
+        v0, t0 = points_of(base.Mesh.Topology[0]), np.array(base.Mesh.Topology[1], int)
+        centres = v0[t0].mean(axis=1)
+        regions = [centres[np.argmin(np.linalg.norm(centres - h, axis=1))] for h in hints]
+        obj = self.make("DimensionDrive", "make_dimension_drive", lambda: fd.make_dimension_drive(
+            base, "Distance", [V(*r) for r in regions], target))
+        v1, t1 = points_of(obj.Mesh.Topology[0]), np.array(obj.Mesh.Topology[1], int)
+        size = float(np.linalg.norm(np.ptp(v0, axis=0)))
+        # the vertices of each plane's face, selected on the base: on the plane, near its hint
+        picked = [np.flatnonzero((np.abs((v0 - o) @ n) <= 2e-4 * size)
+                                 & (np.linalg.norm(v0 - h, axis=1) <= 1.5))
+                  for (o, n), h in zip(planes, hints)]
+        (na, ca, ra), (nb, cb, rb) = (fits.plane_fit(v1[i]) for i in picked)
+        if na @ nb < 0:
+            nb, cb = -nb, -cb
+        achieved = abs(ca - cb)
+        fit_tol = 1e-6 * size + 4 * 1.2e-7 * np.abs(v0).max()    # float32 storage
+        rep.fact("triangles / vertices on the two faces", f"{len(t0)} / {len(picked[0])}, "
+                 f"{len(picked[1])}")
+        rep.fact("Current / Achieved / Reachable (mm)",
+                 f"{obj.Current:.6g} / {obj.Achieved:.6g} / {_text(list(obj.Reachable))}")
+        rep.check("distance between the SVD planes fitted to the two faces' vertices = Target",
+                  achieved, target, ok=abs(achieved - target) <= fit_tol,
+                  note=f"within {fit_tol:.1e} mm: float32 vertices")
+        rep.check("both faces stay planes (largest rms of the fits), mm", max(ra, rb), 0.0,
+                  ok=max(ra, rb) <= fit_tol)
+        rep.check("the faces stay parallel (|n_a x n_b|)", float(np.linalg.norm(np.cross(na, nb))),
+                  0.0, ok=float(np.linalg.norm(np.cross(na, nb))) <= 1e-6)
+        rep.check("topology kept (the same triangles)", bool(np.array_equal(t0, t1)), True)
+        n0 = np.cross(v0[t0[:, 1]] - v0[t0[:, 0]], v0[t0[:, 2]] - v0[t0[:, 0]])
+        n1 = np.cross(v1[t1[:, 1]] - v1[t1[:, 0]], v1[t1[:, 2]] - v1[t1[:, 0]])
+        rep.check("no triangle turned over", int((np.einsum("ij,ij->i", n0, n1) <= 0).sum()), 0)
+        rep.check("Achieved = Target", obj.Achieved, target, ok=abs(obj.Achieved - target) <= fit_tol)
+        self.feature_row("DimensionDrive", "fandisk.obj", "Kind Distance, Target 4.65 mm "
+                         "(was 4.8279)", f"Achieved {obj.Achieved:.6g} mm", np.array_equal(t0, t1),
+                         "SVD plane fits of the two faces' vertices",
+                         abs(achieved - target) / target, fit_tol / target)
+        obj.Mesh.write(os.path.join(self.out, "dimension_drive.stl"))
+        self.exports.append("dimension_drive.stl")
+        self.picture("dimension_drive.png", "DimensionDrive: the fandisk's plane x = 4.83 driven to "
+                     "4.65 mm from x = 0", [("before", "mesh", (v0, t0)), ("after", "mesh", (v1, t1))],
+                     planes, [(planes[0][0] - (4.8279 - target) * X, X), planes[1]], (25, -35))
+
+    def _splinecage(self):
+        if not hasattr(self, "cage"):
+            self.cage = self.doc.addObject("Part::Feature", "SplineCage")
+            self.cage.Shape = Part.read(os.path.join(TESTDATA, "splinecage.stp"))
+        return self.cage
+
+    # -- 14. AreaConstrain: a B-spline face of splinecage.stp +3 %
+    def area_constrain(self):
+        from deform_tests.oracles import nurbs
+        rep, ratio = self.rep, 1.03
+        base = self._splinecage()
+        face = base.Shape.Face2
+        rep.section("AreaConstrain", "splinecage.stp (4 B-spline faces, no solid): Face2 (2 x 7 "
+                    "poles) given 103 % of its area with the least movement of its poles (every "
+                    "pole but the corners, along the control-net normals).")
+        obj = self.make("AreaConstrain", "make_area_constrain",
+                        lambda: fd.make_area_constrain(base, "Face2", "103%"))
+        result = obj.Shape
+        new = min(result.Faces, key=lambda f: (f.CenterOfMass - face.CenterOfMass).Length)
+        a0, c0 = nurbs.converged_area(*surface_arrays(face))
+        a1, c1 = nurbs.converged_area(*surface_arrays(new))
+        rep.fact("OriginalArea / AchievedArea (mm^2)", f"{obj.OriginalArea:.10g} / "
+                 f"{obj.AchievedArea:.10g}")
+        rep.fact("Iterations / MaxPoleMove (mm)", f"{obj.Iterations} / {obj.MaxPoleMove:.4g}")
+        rep.check("area / original area (Gauss quadrature of the B-spline, converged)", a1 / a0,
+                  ratio, rel=1e-10, note=f"quadrature converged to {max(c0, c1):.1e}")
+        rep.check("AchievedArea = the quadrature's area", obj.AchievedArea, a1, rel=1e-10)
+        rep.check("isValid()", result.isValid(), True)
+        rep.fact("result", f"{len(result.Faces)} face(s): a Base that is not one shell or solid "
+                 f"gives the constrained face alone")
+        rep.check("knots, degrees and pole counts kept",
+                  [new.Surface.UDegree, new.Surface.VDegree, new.Surface.NbUPoles,
+                   new.Surface.NbVPoles, list(new.Surface.getUKnots()), list(new.Surface.getVKnots())],
+                  [face.Surface.UDegree, face.Surface.VDegree, face.Surface.NbUPoles,
+                   face.Surface.NbVPoles, list(face.Surface.getUKnots()),
+                   list(face.Surface.getVKnots())])
+        self.feature_row("AreaConstrain", "splinecage.stp Face2", "TargetArea 103 %",
+                         f"AchievedArea {obj.AchievedArea:.10g} mm^2", result.isValid(),
+                         "converged Gauss quadrature of the B-spline's area",
+                         abs(a1 / a0 - ratio) / ratio, 1e-10)
+        self.export_step(obj, "area_constrain.step")
+        self.picture("area_constrain.png", "AreaConstrain: splinecage Face2 +3 %",
+                     [solid_panel(face, "before (Face2)"), solid_panel(new, "after")])
+
+    # -- 15. DirectPush: a point of the same face pushed along its normal
+    def direct_push(self):
+        rep = self.rep
+        base = self._splinecage()
+        face = base.Shape.Face2
+        u0, u1, v0, v1 = face.ParameterRange
+        u, v = u0 + 0.43 * (u1 - u0), v0 + 0.57 * (v1 - v0)
+        size = face.BoundBox.DiagonalLength
+        point = face.valueAt(u, v)
+        target = point + face.normalAt(u, v) * (0.02 * size)
+        rep.section("DirectPush", f"splinecage.stp Face2: its point at (u, v) = 43 %, 57 % of "
+                    f"the parameter range pushed by 2 % of the face's size ({0.02 * size:.3g} "
+                    f"mm) along its normal; the poles and knots follow.")
+        obj = self.make("DirectPush", "make_direct_push",
+                        lambda: fd.make_direct_push(base, "Face2", point, target))
+        result = obj.Shape
+        landed = result.distToShape(Part.Vertex(target))[0]
+        others = sorted(f.Area for f in base.Shape.Faces if not f.isSame(face))
+        rep.check("the pushed point lands: distance of the result to the target (OCCT "
+                  "distToShape), mm", landed, 0.0, ok=landed <= 1e-7 * size)
+        rep.check("isValid()", result.isValid(), True)
+        rep.check("faces kept", len(result.Faces), len(base.Shape.Faces))
+        kept = sum(any(abs(f.Area - a) <= 1e-12 * a for f in result.Faces) for a in others)
+        rep.check("the other faces' areas kept", kept, len(others))
+        self.feature_row("DirectPush", "splinecage.stp Face2",
+                         f"Point -> Target, {0.02 * size:.3g} mm along the normal",
+                         f"landed {landed:.2g} mm off", result.isValid(),
+                         "OCCT distToShape(result, target) / face size", landed / size, 1e-7)
+        self.export_step(obj, "direct_push.step")
+        self.picture("direct_push.png", "DirectPush: a point of splinecage Face2 pushed 2 % "
+                     "of its size", [solid_panel(face, "before (Face2)"), solid_panel(min(
+                         result.Faces, key=lambda f: (f.CenterOfMass - face.CenterOfMass).Length),
+                         "after (Face2)")])
+
+    # -- 16. save, reopen, recompute: the same results
     def reopen(self):
         rep, doc = self.rep, self.doc
         rep.section("Document", "demo.FCStd saved, closed, reopened and recomputed.")
@@ -995,35 +1202,83 @@ class Demo:
                       f"reopen + recompute", _count(obj), count)
 
 
-def run(out):
+FEATURES = ("Stretch", "Bend", "Twist", "Taper", "DimensionDrive", "AreaConstrain", "DirectPush")
+
+
+def features_table(demo):
+    """The features table: one row per feature, valid when its result is valid, its oracle
+    error within tolerance and every check of its section passed; a feature that never
+    reached its row is listed as not valid."""
+    rows = []
+    for name in FEATURES:
+        row = next((r for r in demo.features if r["feature"] == name), None)
+        if row is None:
+            rows.append({"feature": name, "base": "-", "inputs": "-", "outputs": "-",
+                         "valid": False, "seconds": 0.0, "oracle": "did not run", "error": None,
+                         "tolerance": None})
+            continue
+        checks = demo.rep.sections[row["section"]]["checks"]
+        row = dict(row, valid=row["valid"] and row["error"] <= row["tolerance"]
+                   and all(c["status"] != "FAIL" for c in checks))
+        rows.append({k: v for k, v in row.items() if k != "section"})
+    lines = ["## Features", "", "| feature | base | inputs | outputs | valid | seconds | oracle "
+             "| rel. error (tolerance) |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for r in rows:
+        err = "-" if r["error"] is None else f"{r['error']:.1e} (<= {r['tolerance']:.0e})"
+        lines.append(f"| {r['feature']} | {r['base']} | {r['inputs']} | {r['outputs']} | "
+                     f"{'yes' if r['valid'] else '**no**'} | {r['seconds']:.2f} | {r['oracle']} "
+                     f"| {err} |")
+    return rows, "\n".join(lines) + "\n"
+
+
+def run(out, quick=False):
+    """The demo into `out`; quick: one section per feature (Stretch, Bend, Twist, Taper,
+    DimensionDrive, AreaConstrain, DirectPush) and the document reopened, no more."""
     os.makedirs(out, exist_ok=True)
     t_start = time.perf_counter()
     demo = Demo(out)
-    for section in (demo.one_plane, demo.two_planes, demo.shrink, demo.mesh, demo.cloud,
-                    demo.assembly, demo.bend, demo.two_plane_bend, demo.twist, demo.mesh_bend,
-                    demo.blade, demo.reopen):
+    sections = ((demo.one_plane, demo.bend, demo.twist) if quick else
+                (demo.one_plane, demo.two_planes, demo.shrink, demo.mesh, demo.cloud,
+                 demo.assembly, demo.bend, demo.two_plane_bend, demo.twist, demo.mesh_bend,
+                 demo.blade))
+    for section in sections + (demo.taper, demo.dimension_drive, demo.area_constrain,
+                               demo.direct_push, demo.reopen):
         demo.guarded(section)
     if demo.doc.Name in App.listDocuments():
         App.closeDocument(demo.doc.Name)
     rep, timings = demo.rep, demo.timings
     checks = sum(len(s["checks"]) for s in rep.sections)
     total = time.perf_counter() - t_start
-    header = (f"# Deform demo: Stretch, Bend and Twist\n\n"
+    rows, table = features_table(demo)
+    header = (f"# Deform demo: every feature\n\n"
               f"FreeCAD {'.'.join(App.Version()[:3])}, OCCT "
               f"{Part.OCC_VERSION}, numpy {np.__version__}. {checks} checks, {rep.failed} failed, "
               f"{rep.warned} warned. Total {total:.1f} s.\n\nFiles: demo.FCStd, "
               + ", ".join(demo.exports) + ", and a before/after PNG per feature.\n\n"
               "Timings (seconds; recompute = median of 3 touch() + doc.recompute()):\n\n"
-              + "\n".join(f"- {k}: {v:.4f}" for k, v in timings.items()) + "\n")
+              + "\n".join(f"- {k}: {v:.4f}" for k, v in timings.items()) + "\n\n" + table)
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write(rep.markdown(header))
     with open(os.path.join(out, "report.json"), "w") as f:
         json.dump({"freecad": ".".join(App.Version()[:3]), "occt": Part.OCC_VERSION,
                    "checks": checks, "failed": rep.failed, "warned": rep.warned,
                    "timings_s": timings, "files": demo.exports + ["demo.FCStd"],
+                   "features": _plain(rows),
                    "sections": _plain(rep.sections), "total_s": total}, f, indent=2)
+    print(table)
     print(f"{rep.failed} of {checks} checks failed, {rep.warned} warned; output in {out}")
-    return rep.failed
+    return rep.failed + sum(not r["valid"] for r in rows)
+
+
+def surface_arrays(face):
+    """A face's B-spline surface as the arrays of the quadrature oracle (poles, weights,
+    flat knots, degrees, parameter range)."""
+    S = face.Surface
+    poles = np.array([[tuple(p) for p in row] for row in S.getPoles()])
+    u0, u1, v0, v1 = face.ParameterRange
+    return (poles, np.array(S.getWeights()), np.repeat(S.getUKnots(), S.getUMultiplicities()),
+            np.repeat(S.getVKnots(), S.getVMultiplicities()), S.UDegree, S.VDegree, (u0, u1),
+            (v0, v1))
 
 
 def surface_samples(shape, count, seed=0):
@@ -1077,9 +1332,11 @@ def blade_cloud(span=100.0, step=1.0, per_layer=240):
 
 
 def main(argv):
+    quick = "--quick" in argv
+    argv = [a for a in argv if a != "--quick"]
     out = os.path.abspath(argv[0] if argv else os.environ.get("DEFORM_DEMO_OUT")
                           or os.path.join(REPO, "demo_out"))
-    failed = run(out)
+    failed = run(out, quick)
     if failed:
         print(f"demo: {failed} invariant(s) failed", file=sys.stderr)
         sys.exit(1)
