@@ -42,8 +42,8 @@ import numpy as np  # noqa: E402
 import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
-from freecad_deform.features.bend import bend_shape  # noqa: E402
-from freecad_deform.features.twist import twist_shape  # noqa: E402
+from freecad_deform.ops.bend import bend_shape  # noqa: E402
+from freecad_deform.ops.twist import twist_shape  # noqa: E402
 from freecad_deform.geometry.sweep import motion as mo  # noqa: E402
 from freecad_deform.geometry.mesh.sweep import map_between, sweep_mesh, twist_motion  # noqa: E402
 from freecad_deform.geometry.points.sweep import map_points_between, sweep_points  # noqa: E402

@@ -45,7 +45,7 @@ import Part  # noqa: E402
 import pstats  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
-from freecad_deform.features.stretch import stretch_shape  # noqa: E402
+from freecad_deform.ops.stretch import stretch_shape  # noqa: E402
 from freecad_deform.geometry.mesh.stretch import stretch_mesh  # noqa: E402
 from freecad_deform.geometry.points.stretch import stretch_points  # noqa: E402
 from freecad_deform.shapes import brep  # noqa: E402

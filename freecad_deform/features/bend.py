@@ -2,10 +2,8 @@
 import numpy as np
 
 from ..geometry.sweep import motion as mo
-from ..geometry.sweep import space_map
-from ..geometry.sweep.bend import bend_tangents, check_bend
-from ..shapes import brep, mapped
-from ..shapes.convert import mesh_arrays, mesh_eps, plane_arrays, points_from_array
+from ..ops import bend
+from ..shapes.convert import plane_arrays
 from . import flex
 from . import planes as ss
 from .base import DeformFeature
@@ -19,93 +17,15 @@ class Bend(DeformFeature):
 
     def compute(self, obj, kind):
         origin, normal, gap = ss.planes(obj)
-        axis_point, axis_direction = plane_arrays(obj.Axis)
+        axis = plane_arrays(obj.Axis)
         angle = np.radians(obj.Angle.Value)
         ss.check_samples(obj, 1)
-        motion = ss.key_motion(obj, mo.rotation(axis_point, axis_direction, angle))
+        motion = ss.key_motion(obj, mo.rotation(*axis, angle))
         if motion is not None:
             return ss.keyed(obj, kind, origin, normal, gap, motion)
-        if kind in ("Mesh", "Points"):
-            return self._discrete(obj, kind, origin, normal, gap, axis_point, axis_direction,
-                                  angle)
-        shape = obj.Base.Shape
-        report = {"MaxDeviation": 0.0}
-        result = bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap,
-                            obj.Samples, obj.Profile, flex.tolerance(obj), report)
-        if gap is not None:
-            smap = space_map.bend_map(origin, normal, gap, angle, axis_point, axis_direction,
-                                      obj.Profile)
-            return result, {**ss.volume_change(result, shape), **report,
-                            **mapped.continuity_report(shape, smap)}
-        joints = [(origin, normal, bend_tangents(axis_point, axis_direction))]
-        return result, {**ss.volume_change(result, shape), **report,
-                        **ss.joint_report(shape, joints)}
-
-    def _discrete(self, obj, kind, origin, normal, gap, axis_point, axis_direction, angle):
-        from ..geometry.mesh import sweep as mesh_sweep
-        from ..geometry.points import sweep as points_sweep
-        if gap is None:
-            motion = mo.ScrewMotion(mo.rotation(axis_point, axis_direction, angle))
-        else:
-            of_s = mesh_sweep.bend_motion(axis_point, axis_direction, angle, origin, normal, gap)
         if kind == "Points":
-            pts, ignored = ss.cloud(obj.Base)
-            out = (points_sweep.sweep_points(pts, origin, normal, motion) if gap is None else
-                   points_sweep.map_points_between(pts, origin, normal, gap, of_s))
-            return points_from_array(out), ignored
-        v, t = mesh_arrays(obj.Base.Mesh)
-        return ss.mesh_result(obj.Base.Mesh, *(
-            mesh_sweep.sweep_mesh(v, t, origin, normal, motion, obj.Samples, mesh_eps(v))
-            if gap is None else
-            mesh_sweep.map_between(v, t, origin, normal, gap, of_s, obj.Samples, mesh_eps(v))))
-
-
-def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=None, samples=16,
-               profile="Linear", tolerance=1e-3, report=None):
-    """The bent shape: the far part turned by `angle` (radians) about the axis. With two
-    planes, a region of one outline is its section revolved (exact, whatever the profile:
-    it only spaces the sections differently); any other region goes through the bend map
-    (shapes.mapped), report["MaxDeviation"] the largest deviation of a fit."""
-    bb = shape.BoundBox
-    reach = bb.DiagonalLength + np.linalg.norm(np.array(tuple(bb.Center)) - axis_point)
-    if abs(angle) * reach <= brep.TOL:  # no point moves more than the modelling tolerance
-        return shape.copy()
-    turn = mo.rotation(axis_point, axis_direction, angle)
-    far_motion = turn if gap is None else turn @ mo.translation(-gap * normal)
-    far_joint = (mo.apply(turn, origin[None])[0], turn[:3, :3] @ normal)
-
-    def solid_fn(solid):
-        offsets = [0.0] if gap is None else [0.0, gap]
-        zones = brep.split_zones(solid, origin, normal, offsets)
-        near, far = zones[0], zones[-1]
-        cut = brep.faces_on_plane(near, origin, normal)
-        if not cut:
-            return None if not near and not far else brep.join(
-                near + brep.transformed(far, far_motion), [(origin, normal), far_joint])
-        check_bend(np.vstack([brep.sample_points(f) for f in cut]), normal, axis_point,
-                   axis_direction, angle)
-        if gap is not None and not brep.is_prismatic(zones[1], origin, normal, gap):
-            smap = space_map.bend_map(origin, normal, gap, angle, axis_point, axis_direction,
-                                      profile)
-            result, deviation = mapped.map_solid(solid, smap, tolerance, "Tolerance", zones)
-            if report is not None:
-                report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
-            return result
-        middle = brep.revolved(cut, axis_point, axis_direction, angle)
-        moved = brep.transformed(far, far_motion)
-        brep.check_apart(near, moved, "Angle")
-        return brep.join(near + middle + moved, [(origin, normal), far_joint])
-
-    def loose_fn(parts):
-        if gap is not None:
-            near, _, far = brep.split_loose(parts, origin, normal, [0.0, gap])
-        else:
-            near, far = brep.split_loose(parts, origin, normal, [0.0])
-        _, cut, wires = brep.split_sheet(near, origin, normal)
-        fill = [brep.arc(p, axis_point, axis_direction, angle)
-                for p in brep.points_on_plane(wires, origin, normal)]
-        if gap is None:
-            fill += brep.revolved(cut, axis_point, axis_direction, angle)
-        return brep.sheets(near + fill + brep.transformed(far, far_motion))
-
-    return ss.deform_shape(shape, origin, normal, gap, solid_fn, loose_fn)
+            return bend.points(obj.Base.Points, origin, normal, angle, axis, gap)
+        if kind == "Mesh":
+            return bend.mesh(obj.Base.Mesh, origin, normal, angle, axis, gap, obj.Samples)
+        return bend.solid(obj.Base.Shape, origin, normal, angle, axis, gap, obj.Samples,
+                          obj.Profile, flex.tolerance(obj))

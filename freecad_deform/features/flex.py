@@ -1,6 +1,5 @@
 """What Twist, Bend and Taper share where the region between the planes goes through a
-space map (geometry.sweep.space_map): the Profile, Tolerance and MaxDeviation properties, and
-the mapped B-rep with its outputs."""
+space map (geometry.sweep.space_map): the Profile, Tolerance and MaxDeviation properties."""
 from ..geometry.sweep.space_map import PROFILES
 from .base import Prop
 
@@ -26,9 +25,3 @@ def tolerance(obj):
         raise DeformError("Tolerance must be positive; raise Tolerance.", "Tolerance")
     return value
 
-
-def mapped_result(shape, smap, obj):
-    """(result shape, {MaxDeviation, Continuity, SplitFaces}) of the B-rep through smap."""
-    from ..shapes import mapped
-    result, deviation = mapped.map_shape(shape, smap, tolerance(obj))
-    return result, {"MaxDeviation": deviation, **mapped.continuity_report(shape, smap)}

@@ -303,7 +303,7 @@ def default_twist_axis(base, plane):
     """The Plane normal through the centroid of the cross-section (Twist's own default when
     UseAxis is false; for a mesh or a cloud the middle of its box): the start value of Axis
     when the user turns UseAxis on."""
-    from ..features.twist import section_centroid
+    from ..ops.planes import section_centroid
     from ..shapes.brep import solids_of
     origin, normal = plane_arrays(plane)
     centre = defaults.section_centre(*box(base), origin, normal)

@@ -1,0 +1,113 @@
+"""Bend (Wu & Ilies): the part beyond Plane turns by `angle` (radians) about an axis (point,
+direction); the gap is the section revolved. Between two planes (`gap` beyond the first)
+the region bends progressively by `profile` and the part beyond turns rigidly.
+
+solid(shape, ...), mesh(mesh, ...) and points(cloud, ...) give (result, outputs);
+bend_shape is the B-rep pipeline alone.
+"""
+import numpy as np
+
+from ..geometry.mesh import sweep as mesh_sweep
+from ..geometry.points import sweep as points_sweep
+from ..geometry.sweep import motion as mo
+from ..geometry.sweep import space_map
+from ..geometry.sweep.bend import bend_tangents, check_bend
+from ..shapes import brep, mapped
+from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
+from . import planes as pp
+
+
+def solid(shape, origin, normal, angle, axis, gap=None, samples=16, profile="Linear",
+          tolerance=1e-3):
+    """(shape, {VolumeChange, MaxDeviation, Continuity, SplitFaces}) of a bent B-rep."""
+    axis_point, axis_direction = axis
+    report = {"MaxDeviation": 0.0}
+    result = bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap,
+                        samples, profile, tolerance, report)
+    if gap is not None:
+        smap = space_map.bend_map(origin, normal, gap, angle, axis_point, axis_direction,
+                                  profile)
+        return result, {**pp.volume_change(result, shape), **report,
+                        **mapped.continuity_report(shape, smap)}
+    joints = [(origin, normal, bend_tangents(axis_point, axis_direction))]
+    return result, {**pp.volume_change(result, shape), **report,
+                    **pp.joint_report(shape, joints)}
+
+
+def _motion(origin, normal, angle, axis, gap):
+    """The screw motion of one plane, or the motion of the fraction s / gap of two."""
+    if gap is None:
+        return mo.ScrewMotion(mo.rotation(*axis, angle))
+    return mesh_sweep.bend_motion(*axis, angle, origin, normal, gap)
+
+
+def mesh(base, origin, normal, angle, axis, gap=None, samples=16):
+    """(Mesh, {VolumeChange}): the section ring swept through samples + 1 turns (one
+    plane), or the region cut into `samples` slabs and mapped (two planes)."""
+    motion = _motion(origin, normal, angle, axis, gap)
+    v, t = mesh_arrays(base)
+    return pp.mesh_result(base, *(
+        mesh_sweep.sweep_mesh(v, t, origin, normal, motion, samples, mesh_eps(v))
+        if gap is None else
+        mesh_sweep.map_between(v, t, origin, normal, gap, motion, samples, mesh_eps(v))))
+
+
+def points(base, origin, normal, angle, axis, gap=None):
+    """(Points, {IgnoredPoints}): far points turned, the gap filled (one plane), or each
+    point of the region mapped by its fraction of the gap (two planes)."""
+    motion = _motion(origin, normal, angle, axis, gap)
+    pts, ignored = pp.cloud(base)
+    out = (points_sweep.sweep_points(pts, origin, normal, motion) if gap is None else
+           points_sweep.map_points_between(pts, origin, normal, gap, motion))
+    return points_from_array(out), ignored
+
+
+def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=None, samples=16,
+               profile="Linear", tolerance=1e-3, report=None):
+    """The bent shape: the far part turned by `angle` (radians) about the axis. With two
+    planes, a region of one outline is its section revolved (exact, whatever the profile:
+    it only spaces the sections differently); any other region goes through the bend map
+    (shapes.mapped), report["MaxDeviation"] the largest deviation of a fit."""
+    bb = shape.BoundBox
+    reach = bb.DiagonalLength + np.linalg.norm(np.array(tuple(bb.Center)) - axis_point)
+    if abs(angle) * reach <= brep.TOL:  # no point moves more than the modelling tolerance
+        return shape.copy()
+    turn = mo.rotation(axis_point, axis_direction, angle)
+    far_motion = turn if gap is None else turn @ mo.translation(-gap * normal)
+    far_joint = (mo.apply(turn, origin[None])[0], turn[:3, :3] @ normal)
+
+    def solid_fn(solid):
+        offsets = [0.0] if gap is None else [0.0, gap]
+        zones = brep.split_zones(solid, origin, normal, offsets)
+        near, far = zones[0], zones[-1]
+        cut = brep.faces_on_plane(near, origin, normal)
+        if not cut:
+            return None if not near and not far else brep.join(
+                near + brep.transformed(far, far_motion), [(origin, normal), far_joint])
+        check_bend(np.vstack([brep.sample_points(f) for f in cut]), normal, axis_point,
+                   axis_direction, angle)
+        if gap is not None and not brep.is_prismatic(zones[1], origin, normal, gap):
+            smap = space_map.bend_map(origin, normal, gap, angle, axis_point, axis_direction,
+                                      profile)
+            result, deviation = mapped.map_solid(solid, smap, tolerance, "Tolerance", zones)
+            if report is not None:
+                report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
+            return result
+        middle = brep.revolved(cut, axis_point, axis_direction, angle)
+        moved = brep.transformed(far, far_motion)
+        brep.check_apart(near, moved, "Angle")
+        return brep.join(near + middle + moved, [(origin, normal), far_joint])
+
+    def loose_fn(parts):
+        if gap is not None:
+            near, _, far = brep.split_loose(parts, origin, normal, [0.0, gap])
+        else:
+            near, far = brep.split_loose(parts, origin, normal, [0.0])
+        _, cut, wires = brep.split_sheet(near, origin, normal)
+        fill = [brep.arc(p, axis_point, axis_direction, angle)
+                for p in brep.points_on_plane(wires, origin, normal)]
+        if gap is None:
+            fill += brep.revolved(cut, axis_point, axis_direction, angle)
+        return brep.sheets(near + fill + brep.transformed(far, far_motion))
+
+    return pp.deform_shape(shape, origin, normal, gap, solid_fn, loose_fn)

@@ -1,0 +1,180 @@
+"""What the Stretch, Bend, Twist and Taper pipelines share (Wu & Ilies's split at separating
+planes, sweep, join): the per-solid driver, the loft of a general motion, the joints'
+continuity report (Lemma 1), cross-sections and their centroids, and the outputs every
+kind of Base gives (VolumeChange, IgnoredPoints)."""
+import numpy as np
+
+from ..geometry.errors import DeformError
+from ..geometry.sweep import continuity
+from ..geometry.sweep import motion as mo
+from ..geometry.sweep import planes as pl
+from ..shapes import brep
+
+
+def check_crossing(parts, origin, normal, gap=None):
+    """The planes must cut the part (by more than the modelling tolerance): one that misses
+    or only touches it is bad input for Plane or Plane2."""
+    lo = min(brep.extent(s, origin, normal)[0] for s in parts)
+    hi = max(brep.extent(s, origin, normal)[1] for s in parts)
+    pl.check_crossing([lo, hi], "Plane", brep.TOL)
+    if gap is not None:
+        pl.check_crossing([lo - gap, hi - gap], "Plane2", 0.0, where=None)
+
+
+def deform_shape(shape, origin, normal, gap, solid_fn, loose_fn):
+    """Each solid through `solid_fn(solid)`, wireframes through `loose_fn(parts)`.
+
+    solid_fn returns one solid or None; the result is one solid or a compound.
+    """
+    import Part
+    solids = brep.solids_of(shape, loose_allowed=True)
+    loose = brep.loose_parts(shape)
+    check_crossing(solids + loose, origin, normal, gap)
+    out = [r for r in (solid_fn(s) for s in solids) if r is not None]
+    out += loose_fn(loose)
+    return out[0] if len(out) == 1 else Part.makeCompound(out)
+
+
+def joint_report(shape, joints):
+    """Output values for the faces that the planes cut.
+
+    `joints` are (origin, normal, tangents[, keep]) with tangents(points) the trajectory
+    tangents of the joint points and keep(points) an optional mask of the points that lie
+    on the joint (a segment of a folded surface); a face is G1 only if it is G1 at every
+    joint it crosses.
+    """
+    worst = {}
+    for origin, normal, tangents, *keep in joints:
+        for name, face, edges in brep.crossing_faces(shape, origin, normal):
+            points, normals = brep.joint_normals(face, edges)
+            if keep:
+                mask = keep[0](points)
+                points, normals = points[mask], normals[mask]
+            if not len(points):
+                continue
+            kind = continuity.joint_continuity(normals, tangents(points))
+            worst[name] = "C0" if "C0" in (kind, worst.get(name)) else kind
+    entries = sorted(worst.items(), key=lambda item: int(item[0][4:]))
+    return {"Continuity": continuity.report(entries), "SplitFaces": [n for n, _ in entries]}
+
+
+def motion_joints(origin, normal, motion):
+    """Joint planes and Lemma 1 tangents of a Case 1 sweep by `motion`: at the Plane, and
+    at the far part's face (tangents at t = 1 turned back to the original frame)."""
+    end = motion.matrix(1.0)
+    return [(origin, normal, lambda p: motion.velocity(p, 0.0)),
+            (mo.apply(end, origin[None])[0], end[:3, :3] @ normal,
+             lambda p: motion.velocity(mo.apply(np.linalg.inv(end), p), 1.0) @ end[:3, :3])]
+
+
+def sweep_solid(solid, origin, normal, motion, samples, prop="KeyPlacements"):
+    """Case 1 with a general motion (Steps 4-7): the section swept through profiles normal
+    to the path of its centroid, placed and turned by the motion, and lofted."""
+    near, far = brep.split_zones(solid, origin, normal, [0.0])
+    cut = brep.faces_on_plane(near, origin, normal)
+    end = motion.matrix(1.0)
+    if not cut:  # this solid lies on one side: kept or moved whole
+        return (near + brep.transformed(far, end))[0]
+    centroid = sum(np.array(tuple(f.CenterOfMass)) * f.Area for f in cut) / sum(
+        f.Area for f in cut)
+    ts = np.linspace(0.0, 1.0, samples + 1)
+    frames = mo.profile_frames(motion, centroid, ts)
+    across = brep.projected(cut, origin, normal, frames[0])
+    profiles = ([cut] + [brep.transformed(across, f @ np.linalg.inv(frames[0]))
+                         for f in frames[1:-1]] + [brep.transformed(cut, end)])
+    for t, profile in zip(ts[1:], profiles[1:]):  # the sweep must not reach back into the part
+        reach = min(float(((brep.sample_points(f) - origin) @ normal).min()) for f in profile)
+        if reach < -brep.TOL:
+            raise DeformError(f"The path leaves Plane too obliquely: the profile at t = {t:.2g} "
+                              f"reaches {-reach:.3g} mm behind Plane; change {prop} or "
+                              f"Interpolation.", prop)
+    joints = [(origin, normal), (mo.apply(end, origin[None])[0], end[:3, :3] @ normal)]
+    return lofted_join(near, cut, profiles, far, (origin, normal), end, joints, prop)
+
+
+def lofted_join(near, cut, profiles, far, far_plane, end, joints, prop):
+    """One solid from the near pieces, the loft through `profiles` (from the near part's
+    `cut` faces to the far part's section at `far_plane`, moved by `end`) and the far
+    pieces: their faces sewn, the cut faces left out."""
+    moved = brep.transformed(far, end)
+    brep.check_apart(near, moved, prop)
+    far_cut = brep.faces_on_plane(far, *far_plane)
+    faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)]
+             + brep.loft_sides(profiles, prop)
+             + brep.transformed([f for s in far for f in s.Faces
+                                 if not any(f.isSame(c) for c in far_cut)], end))
+    return brep.join_faces(faces, joints, prop)
+
+
+def sections(solids, origin, normal, offsets):
+    """The cross-section faces of `solids` at each offset along `normal` (one list each),
+    solid by solid: the solids of an assembly may overlap, and one face maker over all their
+    wires would nest one solid's outline in another's."""
+    import Part
+    import FreeCAD as App
+    n = App.Vector(*normal)
+    out = []
+    for off in offsets:
+        d = float(np.dot(origin + off * normal, normal))
+        faces = []
+        for solid in solids:
+            wires = solid.slice(n, d)
+            if wires:
+                faces += Part.makeFace(wires, "Part::FaceMakerBullseye").Faces
+        out.append(faces)
+    return out
+
+
+def section_centroid(solids, origin, normal):
+    """Area centroid of the cross-section at the plane (the default twist axis passes here)."""
+    faces = sections(solids, origin, normal, [0.0])[0]
+    if not faces:
+        raise pl.missed("Plane")
+    area = sum(f.Area for f in faces)
+    return sum(np.array(tuple(f.CenterOfMass)) * f.Area for f in faces) / area
+
+
+def section_centroid_mesh(mesh, origin, normal):
+    """Centroid of the mesh's cross-section polylines at the plane (their vertex mean)."""
+    import FreeCAD as App
+    lines = mesh.crossSections([(App.Vector(*origin), App.Vector(*normal))])[0]
+    pts = np.array([tuple(p) for line in lines for p in line])
+    if len(pts) == 0:
+        raise pl.missed("Plane")
+    return pts.mean(axis=0)
+
+
+def section_centroid_cloud(points, origin, normal):
+    """Mean of the cloud's section points (points.stretch.section_band), put on the plane."""
+    from ..geometry.points.stretch import section_band, spacing
+    s = (points - origin) @ normal
+    near = points[section_band(s, 2 * spacing(points))]
+    if len(near) == 0:
+        raise pl.missed("Plane")
+    return near.mean(axis=0) - ((near.mean(axis=0) - origin) @ normal) * normal
+
+
+def mesh_result(base_mesh, vertices, triangles):
+    """The new Mesh and its VolumeChange, measured in float64 on the arrays."""
+    from ..geometry.mesh.measure import mesh_volume
+    from ..shapes.convert import mesh_arrays, mesh_from_arrays
+    change = mesh_volume(vertices, triangles) - mesh_volume(*mesh_arrays(base_mesh))
+    return mesh_from_arrays(vertices, triangles), {"VolumeChange": change}
+
+
+def cloud(points):
+    """The finite points of a Points.Points and the IgnoredPoints output."""
+    from ..shapes.convert import points_array
+    pts = points_array(points)
+    return pts, {"IgnoredPoints": points.CountPoints - len(pts)}
+
+
+def volume_change(result, shape):
+    """Material gained, from the solids alone (loose faces have no volume; a reversed
+    Base solid counts as the material it bounds)."""
+    return {"VolumeChange": brep.solids_volume(result) - brep.solids_volume(shape)}
+
+
+def constant(vector):
+    """A tangent field equal to `vector` everywhere (a translation)."""
+    return lambda points: np.broadcast_to(vector, np.shape(points))

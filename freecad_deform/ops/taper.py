@@ -1,0 +1,68 @@
+"""Taper (Wu & Ilies, the scaling function of Step 6 and Fig. 11): the region between Plane
+and the plane `gap` beyond it is scaled across an axis by scale(s), 1 at Plane to `scale`
+at the far plane (a pair: along the axis frame's X and Y); the part beyond is scaled by
+`scale`. Solids go through the space map face by face (shapes.mapped), meshes and point
+clouds vertex by vertex, exactly.
+
+The axis frame `rows` is a 3x3 array whose rows are its X, Y and Z (Z along the normal);
+`point` is a point on the axis, or None for the centroid of the section at Plane.
+solid(shape, ...), mesh(mesh, ...) and points(cloud, ...) give (result, outputs).
+"""
+import numpy as np
+
+from ..geometry.errors import DeformError
+from ..geometry.sweep import space_map
+from ..shapes import brep, mapped
+from ..shapes.convert import mesh_arrays, points_from_array
+from . import planes as pp
+
+
+def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
+          tolerance=1e-3):
+    """(shape, {VolumeChange, MaxDeviation, Continuity, SplitFaces}) of a tapered B-rep."""
+    solids = brep.solids_of(shape)
+    pp.check_crossing(solids, origin, normal, gap)
+    if point is None:
+        point = pp.section_centroid(solids, origin, normal)
+    smap = taper_map(origin, normal, gap, scale, rows, point, profile)
+    result, deviation = mapped.map_shape(shape, smap, tolerance)
+    return result, {**pp.volume_change(result, shape), "MaxDeviation": deviation,
+                    **mapped.continuity_report(shape, smap)}
+
+
+def mesh(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):
+    """(Mesh, {VolumeChange}): every vertex through the taper map."""
+    v, t = mesh_arrays(base)
+    if point is None:
+        point = pp.section_centroid_mesh(base, origin, normal)
+    smap = taper_map(origin, normal, gap, scale, rows, point, profile)
+    return pp.mesh_result(base, smap(v), t)
+
+
+def points(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):
+    """(Points, {IgnoredPoints}): every point through the taper map."""
+    pts, ignored = pp.cloud(base)
+    if point is None:
+        point = _near_centre(pts, origin, normal, gap)
+    smap = taper_map(origin, normal, gap, scale, rows, point, profile)
+    return points_from_array(smap(pts)), ignored
+
+
+def taper_map(origin, normal, gap, scale, rows, point, profile="Linear"):
+    """The taper's space map about the axis through `point` along rows[2], which must be
+    parallel to the normal."""
+    if np.linalg.norm(np.cross(rows[2], normal)) > 1e-9:
+        raise DeformError("Axis must be parallel to the Plane normal for a taper; turn "
+                          "Axis.", "Axis")
+    return space_map.taper_map(origin, normal, gap, scale, point, rows, profile)
+
+
+def _near_centre(points, origin, normal, gap):
+    """Mean of the cloud points in the first tenth of the region, put on Plane."""
+    s = (points - origin) @ normal
+    near = points[(s >= 0) & (s <= 0.1 * gap)]
+    if len(near) == 0:
+        raise DeformError("No point lies just beyond Plane; move Plane so it crosses the "
+                          "cloud, or UseAxis.", "Plane")
+    c = near.mean(axis=0)
+    return c - ((c - origin) @ normal) * normal

@@ -1,0 +1,94 @@
+"""Twist (Wu & Ilies, Case 2): the region between Plane and the plane `gap` beyond it turns
+progressively by `angle` (radians) x profile(s / gap) about an axis (point, direction)
+parallel to the normal; the part beyond turns rigidly; length and cross-sections are kept.
+Without an axis, the twist turns about the normal through the centroid of the section at
+Plane.
+
+solid(shape, ...), mesh(mesh, ...) and points(cloud, ...) give (result, outputs);
+twist_shape is the B-rep pipeline alone.
+"""
+import numpy as np
+
+from ..geometry.errors import DeformError
+from ..geometry.mesh import sweep as mesh_sweep
+from ..geometry.points import sweep as points_sweep
+from ..geometry.sweep import motion as mo
+from ..geometry.sweep import space_map
+from ..shapes import brep, mapped
+from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
+from . import planes as pp
+
+
+def solid(shape, origin, normal, gap, angle, axis=None, samples=16, profile="Linear",
+          tolerance=1e-3):
+    """(shape, {VolumeChange, MaxDeviation, Continuity, SplitFaces}) of a twisted B-rep."""
+    axis = axis or (pp.section_centroid(brep.solids_of(shape), origin, normal), normal)
+    report = {"MaxDeviation": 0.0}
+    result = twist_shape(shape, origin, normal, gap, angle, *axis, samples, profile,
+                         tolerance, report)
+    smap = space_map.twist_map(origin, normal, gap, angle, *axis, profile)
+    return result, {**pp.volume_change(result, shape), **report,
+                    **mapped.continuity_report(shape, smap)}
+
+
+def mesh(base, origin, normal, gap, angle, axis=None, samples=16):
+    """(Mesh, {VolumeChange}): the region cut into `samples` slabs, each vertex turned by its
+    fraction of the gap."""
+    v, t = mesh_arrays(base)
+    axis = axis or (pp.section_centroid_mesh(base, origin, normal), normal)
+    of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
+    return pp.mesh_result(base, *mesh_sweep.map_between(v, t, origin, normal, gap, of_s,
+                                                        samples, mesh_eps(v)))
+
+
+def points(base, origin, normal, gap, angle, axis=None):
+    """(Points, {IgnoredPoints}): each point of the region turned by its fraction of the gap."""
+    pts, ignored = pp.cloud(base)
+    axis = axis or (pp.section_centroid_cloud(pts, origin, normal), normal)
+    of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
+    out = points_sweep.map_points_between(pts, origin, normal, gap, of_s)
+    return points_from_array(out), ignored
+
+
+def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, samples=16,
+                profile="Linear", tolerance=1e-3, report=None):
+    """The twisted shape: sections at s turned by angle * profile(s / gap) about the axis,
+    lofted where the region has one outline; elsewhere the region's faces go through the
+    twist map (shapes.mapped), report["MaxDeviation"] the largest deviation of a fit."""
+    smap = space_map.twist_map(origin, normal, gap, angle, axis_point, axis_direction, profile)
+    turn = mo.rotation(axis_point, axis_direction, angle)
+    far_joint = (mo.apply(turn, (origin + gap * normal)[None])[0], turn[:3, :3] @ normal)
+    fracs = np.linspace(0.0, 1.0, samples + 1)
+
+    def turn_to(frac):
+        return mo.rotation(axis_point, axis_direction,
+                           space_map.profile_value(profile, frac) * angle)
+
+    def solid_fn(solid):
+        near, between, far = brep.split_zones(solid, origin, normal, [0.0, gap])
+        cut = brep.faces_on_plane(near, origin, normal)
+        if not between:  # this solid lies before Plane or beyond Plane2
+            return (near + brep.transformed(far, turn))[0]
+        if not (cut and brep.is_prismatic(between, origin, normal, gap)):
+            result, deviation = mapped.map_solid(solid, smap, tolerance, "Tolerance",
+                                                 (near, between, far))
+            if report is not None:
+                report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
+            return result
+        profiles = [brep.transformed(brep.translated(cut, f * gap * normal), turn_to(f))
+                    for f in fracs]
+        result = pp.lofted_join(near, cut, profiles, far, (origin + gap * normal, normal), turn,
+                                [(origin, normal), far_joint], "Angle")
+        # a twist keeps the volume: a loft too coarse for a steep twist cuts inside its path
+        lost = abs(result.Volume - solid.Volume)
+        if lost > 1e-3 * sum(s.Volume for s in between):
+            raise DeformError(f"The twist is too steep for {samples} Samples (the loft loses "
+                              f"{lost:.4g} mm^3); raise Samples or move Plane2 farther.",
+                              "Samples")
+        return result
+
+    def loose_fn(parts):
+        near, between, far = brep.split_loose(parts, origin, normal, [0.0, gap])
+        return near + brep.transformed(far, turn)
+
+    return pp.deform_shape(shape, origin, normal, gap, solid_fn, loose_fn)
