@@ -14,7 +14,7 @@ point lands on the target. The drag loop is what a live drag does per mouse move
 a document recompute: one push on the current surface and the Part face rebuilt from its
 poles (what the viewer then shows); frames per second = 1 / (median time of one frame).
 A document recompute of the DirectPush object (all pushes replayed from the Base, face
-rebuilt) is timed too, on a synthetic surface and on real models (the 312 x 323-pole
+rebuilt) and the op it calls (ops.direct_push.face) are timed too, on a synthetic surface and on real models (the 312 x 323-pole
 terrain, trimmed and natural faces of the 323-face cast housing).
 """
 import os
@@ -30,6 +30,7 @@ import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.geometry.nurbs import direct_push as dp  # noqa: E402
+from freecad_deform.ops import direct_push as push_op  # noqa: E402
 from freecad_deform.shapes import bspline  # noqa: E402
 
 from deform_tests.oracles.nurbs import canopy  # noqa: E402
@@ -113,7 +114,10 @@ def recompute_rows(timer, n):
             if "Invalid" in obj.State:
                 raise RuntimeError(obj.getStatusString())
         t, runs = timer.median(run)
-        return [("document recompute", f"{n}x{n} poles, 1 push", runs, ms(t), "")]
+        t_op, runs_op = timer.median(lambda: push_op.face(
+            base.Shape, "Face1", [V(*point)], [V(*(point + [0, 0, 3]))]))
+        return [("document recompute", f"{n}x{n} poles, 1 push", runs, ms(t), ""),
+                ("ops.direct_push.face", f"{n}x{n} poles, 1 push", runs_op, ms(t_op), "")]
     finally:
         App.closeDocument(doc.Name)
 
