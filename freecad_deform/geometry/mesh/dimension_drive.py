@@ -18,6 +18,7 @@ from .fits import fit_cylinder, fit_plane
 from .intersect import new_intersections
 from .regions import region_adjacency, segment, triangle_normals, vertex_regions
 from .simplify import simplify
+from ..vectors import unit
 
 KINDS = ("Distance", "Radius", "Position", "Angle")
 FIT_TOLERANCE = 1e-4   # a region is a plane / cylinder when its fit deviates less (x size)
@@ -42,11 +43,6 @@ def reach_values(drive):
         return drive.current[0] + drive.reach[0], drive.current[0] + drive.reach[1]
     ends = sorted(drive.value(s) for s in drive.reach)
     return ends[0], ends[1]
-
-
-def _unit(v):
-    v = np.asarray(v, float)
-    return v / np.linalg.norm(v)
 
 
 def _surface_distance(points, normals, tolerance):
@@ -226,10 +222,10 @@ class DimensionModel:
             radial = d - (d @ cyl.axis) * cyl.axis
             if np.linalg.norm(radial) < 1e-12 * self.size:
                 return [], []
-            radial = _unit(radial)
+            radial = unit(radial)
             return [radial], [np.cross(cyl.axis, radial)]
         at = np.any(self.triangles == vertex, axis=1) & (self.labels == label)
-        return [], [SOFT * _unit((self.normals[at] * self.areas[at, None]).sum(axis=0))]
+        return [], [SOFT * unit((self.normals[at] * self.areas[at, None]).sum(axis=0))]
 
     def constraint(self, vertex, direction, moving):
         """(c, exact): the paper's constraint vector at `vertex`, scaled so c . direction
@@ -396,7 +392,7 @@ def position_drive(model, regions, target, origin, axis_point):
     if np.linalg.norm(du) < 1e-9 * model.size:
         raise DeformError("AxisPoint - Origin is perpendicular to the base plane; pick a "
                           "point along the plane.", "AxisPoint")
-    eu = _unit(du)
+    eu = unit(du)
     ev = np.cross(n, eu)
     objects = _feature(model, base, picked, extra)
     cyl = model.cylinder(picked)
@@ -458,12 +454,12 @@ def angle_drive(model, regions, target):
         if np.linalg.norm(hinge) < np.sin(PARALLEL):
             raise DeformError("Regions: the two planes are parallel; Angle needs two planes "
                               "that meet (use Distance for parallel ones).", "Regions")
-        hinge = _unit(hinge)
+        hinge = unit(hinge)
         ca = vertices[model.region_vertices(a)].mean(axis=0)
         cb = vertices[model.region_vertices(b)].mean(axis=0)
         c = np.linalg.solve(np.array([na, nb, hinge]), [da, db, hinge @ ca])
         u, v = ca - c, cb - c
-        u, v = _unit(u - (u @ hinge) * hinge), _unit(v - (v @ hinge) * hinge)
+        u, v = unit(u - (u @ hinge) * hinge), unit(v - (v @ hinge) * hinge)
         return c, hinge, u, v, float(np.degrees(np.arccos(np.clip(u @ v, -1, 1))))
 
     pa, pb = model.planes[a], model.planes[b]

@@ -12,6 +12,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..vectors import unit
+
 INTERIOR, LINE, CORNER = 0, 1, 2
 MAX_TURN_COS = 0.5  # a collapse may turn a remaining triangle's normal by less than 60 degrees
 MIN_AREA = 1e-12    # ... and must leave its doubled area above this times the bbox diagonal^2
@@ -269,17 +271,13 @@ def _setup(V, T, lab):
 def _quadrics(V, T, a, b, face, on_line):
     """Per-vertex sums of n n^T over the planes through it: its triangles' planes and, at
     both ends of a boundary half-edge, the plane through it perpendicular to its triangle."""
-    nrm = _unit(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]))
-    fence = _unit(np.cross(nrm[face[on_line]], V[b[on_line]] - V[a[on_line]]))
+    nrm = unit(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]))
+    fence = unit(np.cross(nrm[face[on_line]], V[b[on_line]] - V[a[on_line]]))
     A = np.zeros((len(V), 3, 3))
     for at, n in ((T[:, 0], nrm), (T[:, 1], nrm), (T[:, 2], nrm),
                   (a[on_line], fence), (b[on_line], fence)):
         np.add.at(A, at, n[:, :, None] * n[:, None, :])
     return A
-
-
-def _unit(x):
-    return x / np.maximum(np.linalg.norm(x, axis=1), 1e-300)[:, None]
 
 
 def _should_flip(a, b, c, d, flat):

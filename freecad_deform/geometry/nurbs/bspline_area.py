@@ -18,6 +18,8 @@ from typing import NamedTuple
 import numpy as np
 from scipy.sparse import csr_matrix
 
+from ..vectors import skew
+
 RULES = np.array([10, 15, 20, 30, 40])   # Gauss-Legendre nodes per direction, in turn
 MAX_DEPTH = 48          # halvings of a knot-span cell, at most
 MAX_RECTS = 4000        # rectangles, at most (|S_u x S_v| = 0 along a curve: a fold)
@@ -367,7 +369,7 @@ class Quadrature:
         uv = s[:, None, None] * (outer(Su, Sv) - np.einsum("k,ij->kij", (Su * Sv).sum(1),
                                                             np.eye(3))
                                  + outer(np.cross(Sv, n), np.cross(Su, n))) - \
-            w[:, None, None] * _skew(n)
+            w[:, None, None] * skew(n)
         coef = (("u", "u", (s * (Sv * Sv).sum(1))[:, None, None] * nn),
                 ("v", "v", (s * (Su * Su).sum(1))[:, None, None] * nn),
                 ("u", "v", uv), ("v", "u", np.transpose(uv, (0, 2, 1))))
@@ -392,14 +394,6 @@ class Quadrature:
             H[np.ix_(g, range(3), g, range(3))] += \
                 block.reshape(m, 3, 3, m).transpose(0, 1, 3, 2)
         return H.reshape(3 * k, 3 * k)
-
-
-def _skew(x):
-    """[x]_x (N, 3, 3): the matrix of the cross product x cross ."""
-    z = np.zeros(len(x))
-    return np.stack([np.stack([z, -x[:, 2], x[:, 1]], -1),
-                     np.stack([x[:, 2], z, -x[:, 0]], -1),
-                     np.stack([-x[:, 1], x[:, 0], z], -1)], 1)
 
 
 def touched(rects, surface, movable):
