@@ -5,7 +5,7 @@
 # So everything the class needs is imported inside it, and the heavy imports wait for
 # Initialize(), which runs when the workbench is first activated. The repository root
 # is on sys.path (FreeCAD adds each Mod/<dir>), so freecad_deform imports; its gui
-# package __init__ is only os.path work.
+# package __init__ is only os.path work. The toolbar and menu are freecad_deform/registry.py's.
 
 
 class DeformWorkbench(Workbench):  # noqa: F821  (Workbench comes from FreeCAD's start-up)
@@ -22,9 +22,11 @@ class DeformWorkbench(Workbench):  # noqa: F821  (Workbench comes from FreeCAD's
     del _icon_path
 
     def Initialize(self):
-        from freecad_deform.gui import commands
-        self.appendToolbar("Deform", list(commands.TOOLBAR))
-        self.appendMenu("Deform", list(commands.TOOLBAR))
+        from freecad_deform import registry
+        from freecad_deform.gui import commands  # noqa: F401  (adds the registry's commands)
+        names = [tool.command for tool in registry.TOOLBAR]
+        self.appendToolbar("Deform", names)
+        self.appendMenu("Deform", names)
 
     def Activated(self):
         pass

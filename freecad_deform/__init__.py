@@ -5,8 +5,8 @@ need FreeCAD and are loaded on first use.
 """
 __version__ = "0.1.0"
 
-_API = ("make_stretch", "make_bend", "make_twist", "make_taper", "make_dimension_drive",
-        "make_matching_drive", "make_area_constrain", "make_direct_push", "solve")
+from .registry import API as _API  # the make_* of every feature and tool (registry.py)
+
 __all__ = list(_API)
 
 

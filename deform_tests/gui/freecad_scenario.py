@@ -9,6 +9,8 @@ it. The script ends FreeCAD with os._exit, also when something goes wrong.
 DEFORM_GUI_ONLY (optional) names the parts to run, e.g. "stretch,taper" (stretch first:
 it activates the workbench).
 """
+import importlib
+import inspect
 import os
 import sys
 import traceback
@@ -16,25 +18,39 @@ import traceback
 import FreeCADGui as Gui
 from PySide import QtCore
 
+from freecad_deform import registry
+
 sys.path.insert(0, os.path.join(os.environ["DEFORM_REPO"], "deform_tests", "gui"))
 import harness  # noqa: E402
-import scenario_area_constrain  # noqa: E402
-import scenario_bend_twist  # noqa: E402
-import scenario_dimension_drive  # noqa: E402
-import scenario_direct_push  # noqa: E402
-import scenario_handles  # noqa: E402
-import scenario_stretch  # noqa: E402
-import scenario_taper  # noqa: E402
 
-PARTS = {
-    "stretch": scenario_stretch.stretch,
-    "bend_twist": scenario_bend_twist.bend_twist,
-    "taper": lambda: scenario_taper.taper(harness),
-    "handles": lambda: scenario_handles.handles(harness),
-    "dimension_drive": scenario_dimension_drive.dimension_drive,
-    "area_constrain": scenario_area_constrain.area_constrain,
-    "direct_push": scenario_direct_push.direct_push,
-}
+
+def part(name):
+    """scenario_<name>.<name>, given the harness when it takes an argument."""
+    function = getattr(importlib.import_module("scenario_" + name), name)
+    return (lambda: function(harness)) if inspect.signature(function).parameters else function
+
+
+# The features' parts in the registry's order (stretch first: it activates the workbench).
+PARTS = {name: part(name) for name in registry.SCENARIOS}
+PARTS["solve"] = part("solve")  # goal seek: a tool on existing objects, not a feature
+
+
+def registry_agrees():
+    """The toolbar, the menu and the registered commands are the registry's, with its icons
+    (once the workbench was activated)."""
+    from PySide import QtGui
+    toolbar = Gui.getMainWindow().findChild(QtGui.QToolBar, "Deform")
+    if toolbar is None:
+        return
+    texts = [a.text().replace("&", "") for a in toolbar.actions()]
+    harness.check("registry: toolbar and menu are its commands, in order",
+                  texts == [t.menu_text for t in registry.TOOLBAR] == harness.menu_texts(),
+                  texts)
+    infos = [Gui.Command.get(t.command) for t in registry.TOOLBAR]
+    harness.check("registry: every command registered, with its icon",
+                  all(c is not None and c.getInfo()["pixmap"].endswith(t.icon + ".svg")
+                      for c, t in zip(infos, registry.TOOLBAR)),
+                  [c and c.getInfo()["pixmap"] for c in infos])
 
 
 def run():
@@ -52,6 +68,7 @@ def run():
                 code = 1
                 if Gui.Control.activeDialog():  # leave no dialog open for the next part
                     Gui.Control.closeDialog()
+        registry_agrees()
     finally:
         harness.dump()
         sys.stdout.flush()

@@ -10,19 +10,16 @@ semi-transparent under the result, so the new surface is seen over the old one.
 import FreeCADGui as Gui
 from PySide import QtGui
 
+from ..geometry.errors import DeformError
 from ..geometry.nurbs.area_constrain import parse_poles
 from ..shapes.bspline import bspline_of, face_of
+from .bindings import bound_quantity, on_value_changed, set_spin_value
+from .coin_nodes import ControlNet
 from .compat import event_position
-from .dimension_drive_panel import length_text, spin_box
-from .task_panel import (TaskPanelBase, is_invalid, on_value_changed, results_box,
-                         set_spin_value)
+from .task_panel import TaskPanelBase, is_invalid
+from .widgets import length_text, results_box
 
-PICK_RADIUS = 10          # pixels: a click this near a pole picks it
 BASE_TRANSPARENCY = 70    # the old surface while the panel is open
-NET_NAME = "DeformControlNet"
-NET_COLOUR = (0.15, 0.15, 0.15)
-FIXED_COLOUR = (0.3, 0.3, 0.3)
-MOVABLE_COLOUR = (1.0, 0.45, 0.0)
 OUTPUTS = ("OriginalArea", "AchievedArea", "Iterations", "MaxPoleMove", "KKTResidual",
            "Conversion", "Replaced")
 
@@ -34,79 +31,12 @@ def area_text(value):
 def base_surface(obj):
     """The B-spline surface of obj's face on the Base (its poles are what Poles names),
     or None when there is none yet (the feature then shows why)."""
+    if obj.Base is None:
+        return None
     try:
         return bspline_of(face_of(obj.Base.Shape, obj.Face)[1])[0]
-    except Exception:
+    except (DeformError, RuntimeError):  # no such face, or OCCT cannot convert it
         return None
-
-
-class ControlNet:
-    """A surface's control net drawn into a 3D view over everything else (a net mostly
-    lies inside the surface's bulge; every pole must be seen to be clicked): net lines and
-    the poles as markers, movable ones in colour."""
-
-    def __init__(self, view, poles):
-        from pivy import coin
-        self.view = view
-        self.poles = poles                        # rows of App.Vector, poles[i][j]
-        nu, nv = len(poles), len(poles[0])
-        points = [tuple(p) for row in poles for p in row]
-        self.root = coin.SoAnnotation()
-        self.root.setName(NET_NAME)
-        coords = coin.SoCoordinate3()
-        coords.point.setValues(0, len(points), points)
-        self.root.addChild(coords)
-
-        lines = coin.SoSeparator()
-        colour = coin.SoBaseColor()
-        colour.rgb = NET_COLOUR
-        style = coin.SoDrawStyle()
-        style.lineWidth = 1.5
-        index = []
-        for i in range(nu):
-            index += [i * nv + j for j in range(nv)] + [-1]
-        for j in range(nv):
-            index += [i * nv + j for i in range(nu)] + [-1]
-        net = coin.SoIndexedLineSet()
-        net.coordIndex.setValues(0, len(index), index)
-        for node in (colour, style, net):
-            lines.addChild(node)
-        self.root.addChild(lines)
-
-        markers = coin.SoSeparator()
-        binding = coin.SoMaterialBinding()
-        binding.value = coin.SoMaterialBinding.PER_VERTEX
-        self.material = coin.SoMaterial()
-        marker_set = coin.SoMarkerSet()
-        marker_set.markerIndex = coin.SoMarkerSet.CIRCLE_FILLED_9_9
-        for node in (binding, self.material, marker_set):
-            markers.addChild(node)
-        self.root.addChild(markers)
-        self.set_movable(())
-        view.getSceneGraph().addChild(self.root)
-
-    def set_movable(self, flat):
-        """Colour the poles whose flat index (i * nv + j, 0-based) is in `flat`."""
-        nv = len(self.poles[0])
-        count = len(self.poles) * nv
-        flat = set(flat)
-        colours = [MOVABLE_COLOUR if k in flat else FIXED_COLOUR for k in range(count)]
-        self.material.diffuseColor.setValues(0, count, colours)
-
-    def pole_at(self, x, y):
-        """(i, j), 1-based, of the pole nearest the screen point (x, y) (pixels from the
-        bottom left, as Coin and getPointOnScreen count) within PICK_RADIUS, else None."""
-        best, found = PICK_RADIUS ** 2, None
-        for i, row in enumerate(self.poles):
-            for j, pole in enumerate(row):
-                px, py = self.view.getPointOnScreen(pole)
-                d2 = (px - x) ** 2 + (py - y) ** 2
-                if d2 <= best:
-                    best, found = d2, (i + 1, j + 1)
-        return found
-
-    def remove(self):
-        self.view.getSceneGraph().removeChild(self.root)
 
 
 class AreaConstrainPanel(TaskPanelBase):
@@ -155,10 +85,7 @@ class AreaConstrainPanel(TaskPanelBase):
         self.by_ratio = QtGui.QRadioButton("Percent of original")
         self.by_ratio.setObjectName("ByRatio")
         self.by_ratio.setToolTip(self.obj.getDocumentationOfProperty("TargetRatio"))
-        self.area = spin_box("mm^2", "TargetArea", 0.0, 1e15)
-        self.area.setToolTip(self.obj.getDocumentationOfProperty("TargetArea"))
-        self.area_binding = Gui.ExpressionBinding(self.area)
-        self.area_binding.bind(self.obj, "TargetArea")
+        self.area, self.area_binding = bound_quantity(self.obj, "TargetArea", "mm^2", 0.0, 1e15)
         on_value_changed(self.area, lambda *_: self.on_area())
         self.percent = QtGui.QDoubleSpinBox()
         self.percent.setObjectName("TargetPercent")
@@ -216,9 +143,11 @@ class AreaConstrainPanel(TaskPanelBase):
         obj = self.obj
         if obj.OriginalArea > 0:
             return obj.OriginalArea
+        if obj.Base is None:
+            return 0.0
         try:
             return face_of(obj.Base.Shape, obj.Face)[1].Area
-        except Exception:
+        except DeformError:  # no such face: the feature says so
             return 0.0
 
     def load(self):
@@ -265,7 +194,7 @@ class AreaConstrainPanel(TaskPanelBase):
             try:
                 shape = (len(self.net.poles), len(self.net.poles[0]))
                 self.net.set_movable(parse_poles(entries, shape))
-            except Exception:
+            except DeformError:
                 self.net.set_movable(())  # a bad entry: the feature's error says which
         self.show_hint()
 

@@ -3,6 +3,7 @@ Samples, Profile, Tolerance, and the results."""
 import FreeCAD as App
 from PySide import QtGui
 
+from ..geometry.errors import DeformError
 from ..shapes.convert import plane_placement
 from . import selection
 from .planes_panel import PlanesPanel
@@ -53,8 +54,8 @@ class BendPanel(PlanesPanel):
                 axis = selection.default_bend_axis(self.obj.Base, new)
                 axis = selection.oriented_bend_axis(self.obj.Base, new, axis,
                                                     self.obj.Angle.Value or 1.0)
-        except Exception as e:
-            self.show_error(str(e))
+        except DeformError as e:
+            self.refuse(e)
             return
         self.set_property("Axis", axis)
         self.reload()
@@ -64,9 +65,5 @@ class BendPanel(PlanesPanel):
         if self._loading or self.closed:
             return
         axis = self.obj.Axis
-        try:
-            self.obj.Axis = plane_placement((axis.Base, -direction_of(axis)), "Axis")
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        super().on_flip_plane()
+        if self.set_property("Axis", plane_placement((axis.Base, -direction_of(axis)), "Axis")):
+            super().on_flip_plane()

@@ -1,38 +1,58 @@
-"""The workbench's commands. CommandBase is the pattern every feature's command copies.
+"""The workbench's commands, one class per entry of registry.TOOLBAR (its command_class,
+here <Name>Command unless the registry says otherwise). The registry gives each its name,
+icon, menu text and tooltip; the class gives what the selection must hold and what it
+creates.
 
-A command is enabled only when the selection fits (selection.read), creates the feature
+A command is enabled only when the selection fits (read_selection), creates the feature
 through the macro API inside one transaction, and opens the feature's task panel, which
 commits that transaction on OK and aborts it on Cancel.
 """
 import FreeCAD as App
 import FreeCADGui as Gui
 
+from .. import registry
+from ..geometry.errors import DeformError
 from . import icon_path, selection
-from .task_panel import is_invalid, panel_class
-from .view_providers import feature_type
+from .task_panel import is_invalid
+from .view_providers import feature_type, panel_class
+
+# What creating a feature may raise for bad input: DeformError (a ValueError) with its one
+# sentence, FreeCAD's Base.FreeCADError (a RuntimeError) from OCCT or a property set.
+CREATE_ERRORS = (ValueError, RuntimeError)
 
 
 class CommandBase:
-    """Subclass and set NAME, TYPE, MENU_TEXT, TOOL_TIP; implement create(base, plane).
+    """A FreeCAD command made from its registry entry (registry.Tool or Feature).
+    Subclasses implement create(base, plane) (or read_selection and Activated).
 
     With AXIS = True the selection may also hold a straight edge or a datum line, and
     create(base, plane, axis) gets it as (point, direction) or None.
     """
 
-    NAME = ""          # FreeCAD command name, "Deform_<TYPE>"
-    TYPE = ""          # the proxy's TYPE: icon resources/icons/<TYPE>.svg, panel <TYPE>Panel
-    MENU_TEXT = ""
-    TOOL_TIP = ""
     AXIS = False       # the selection may give an axis (a straight edge or a datum line)
 
+    def __init__(self, tool):
+        self.tool = tool
+        self.NAME = tool.command     # FreeCAD command name, "Deform_<Name>"
+        self.TYPE = tool.name        # the feature's TYPE, its transaction's name
+        self.MENU_TEXT = tool.menu_text
+        self.TOOL_TIP = tool.tool_tip
+
     def GetResources(self):
-        return {"Pixmap": icon_path(self.TYPE), "MenuText": self.MENU_TEXT,
+        return {"Pixmap": icon_path(self.tool.icon), "MenuText": self.MENU_TEXT,
                 "ToolTip": self.TOOL_TIP}
 
     def IsActive(self):
         if Gui.ActiveDocument is None or Gui.Control.activeDialog():
             return False
-        return self.read_selection() is not None
+        return self.fits() is not None
+
+    def fits(self):
+        """read_selection(), None also when a selected object was deleted meanwhile."""
+        try:
+            return self.read_selection()
+        except ReferenceError:
+            return None
 
     def read_selection(self):
         """What create() needs from the selection, or None when it does not fit."""
@@ -43,7 +63,7 @@ class CommandBase:
         raise NotImplementedError
 
     def Activated(self):
-        fits = self.read_selection()
+        fits = self.fits()
         if fits is None:
             App.Console.PrintError(f"{self.MENU_TEXT}: {self.TOOL_TIP}\n")
             return
@@ -52,13 +72,16 @@ class CommandBase:
         # Persistent, so the transaction outlives this command invocation: the task panel
         # commits it on OK (one undo step) or aborts it on Cancel.
         transaction = App.setActiveTransaction(self.TYPE, True) or None
+        obj = None
         try:
             self._hide(base)
             obj = self.create(base, *picked)
-        except Exception as e:
-            if transaction:
-                App.closeActiveTransaction(True, transaction)
+        except CREATE_ERRORS as e:
             App.Console.PrintError(f"{self.MENU_TEXT}: {e}\n")
+        finally:
+            if obj is None and transaction:
+                App.closeActiveTransaction(True, transaction)
+        if obj is None:
             return
         Gui.Selection.clearSelection()
         panel = panel_class(obj)(obj, transaction=transaction, created=True,
@@ -79,28 +102,12 @@ class CommandBase:
 
 
 class StretchCommand(CommandBase):
-    NAME = "Deform_Stretch"
-    TYPE = "Stretch"
-    MENU_TEXT = "Stretch"
-    TOOL_TIP = ("Stretch a solid, mesh or point cloud at a plane: the part beyond the plane "
-                "moves by Distance, the gap is filled with the swept cross-section.\n"
-                "Select one solid, mesh or point cloud, optionally with a planar face or a "
-                "datum plane that gives the plane.")
-
     def create(self, base, picked_plane):
         from ..api import make_stretch
         return make_stretch(base, selection.suggested_plane(base, picked_plane), 0.0)
 
 
 class BendCommand(CommandBase):
-    NAME = "Deform_Bend"
-    TYPE = "Bend"
-    MENU_TEXT = "Bend"
-    TOOL_TIP = ("Bend a solid, mesh or point cloud at a plane: the part beyond the plane turns "
-                "by Angle about Axis, the gap is filled with the revolved cross-section.\n"
-                "Select one solid, mesh or point cloud, optionally with a planar face or a "
-                "datum plane that gives the plane and a straight edge or a datum line that "
-                "gives the axis.")
     AXIS = True
     ANGLE = 30.0
 
@@ -124,15 +131,6 @@ class RegionCommand(CommandBase):
 
 
 class TwistCommand(RegionCommand):
-    NAME = "Deform_Twist"
-    TYPE = "Twist"
-    MENU_TEXT = "Twist"
-    TOOL_TIP = ("Twist a solid, mesh or point cloud between two parallel planes: sections "
-                "between Plane and Plane2 turn progressively by up to Angle, the part beyond "
-                "Plane2 turns rigidly; length and cross-sections are kept.\n"
-                "Select one solid, mesh or point cloud, optionally with a planar face or a "
-                "datum plane that gives Plane and a straight edge or a datum line that gives "
-                "the axis (else the Plane normal through the section's centroid).")
     ANGLE = 30.0
 
     def make(self, base, plane, plane2, axis):
@@ -141,15 +139,6 @@ class TwistCommand(RegionCommand):
 
 
 class TaperCommand(RegionCommand):
-    NAME = "Deform_Taper"
-    TYPE = "Taper"
-    MENU_TEXT = "Taper"
-    TOOL_TIP = ("Taper a solid, mesh or point cloud between two parallel planes: sections "
-                "between Plane and Plane2 are scaled across the axis from 1 to Scale, the part "
-                "beyond Plane2 is scaled by Scale.\n"
-                "Select one solid, mesh or point cloud, optionally with a planar face or a "
-                "datum plane that gives Plane and a straight edge or a datum line that gives "
-                "the axis (else the Plane normal through the section's centroid).")
     SCALE = 0.8
 
     def make(self, base, plane, plane2, axis):
@@ -158,32 +147,21 @@ class TaperCommand(RegionCommand):
 
 
 class DimensionDriveCommand(CommandBase):
-    NAME = "Deform_DimensionDrive"
-    TYPE = "DimensionDrive"
-    MENU_TEXT = "Drive dimension"
-    TOOL_TIP = ("Change a dimension of a triangle mesh: the distance of two parallel planes, "
-                "the radius of a cylinder or the position of a feature. The rest of the mesh "
-                "follows without remeshing.\n"
-                "Select one mesh or one solid (a solid is tessellated), optionally with a face "
-                "of it that gives the first region; then click the regions in the task panel.")
     TARGET = 1.0  # placeholder; the panel sets Target to the current value once picked
 
     def read_selection(self):
         """(base, face or None, picked point or None): one mesh or solid, maybe one face."""
-        try:
-            items = Gui.Selection.getSelectionEx()
-            if len(items) != 1 or selection.base_kind(items[0].Object) not in ("Mesh", "Part"):
-                return None
-            item = items[0]
-            names = [n for n in item.SubElementNames if n]
-            if not names:
-                return item.Object, None, None
-            if len(names) != 1 or not names[0].startswith("Face"):
-                return None
-            points = item.PickedPoints
-            return item.Object, item.SubObjects[0], (points[0] if points else None)
-        except Exception:
+        items = Gui.Selection.getSelectionEx()
+        if len(items) != 1 or selection.base_kind(items[0].Object) not in ("Mesh", "Part"):
             return None
+        item = items[0]
+        names = [n for n in item.SubElementNames if n]
+        if not names:
+            return item.Object, None, None
+        if len(names) != 1 or not names[0].startswith("Face"):
+            return None
+        points = item.PickedPoints
+        return item.Object, item.SubObjects[0], (points[0] if points else None)
 
     def create(self, base, face=None, picked=None):
         import Part
@@ -209,32 +187,21 @@ def point_on_face(face, picked):
 
 
 class MatchingDriveCommand(CommandBase):
-    NAME = "Deform_MatchingDrive"
-    TYPE = "DimensionDrive"
-    MENU_TEXT = "Drive matching region"
-    TOOL_TIP = ("Apply a DimensionDrive to the matching region of another part (a bore and "
-                "the shaft in it): the new drive's Target follows the first one's, so one "
-                "value changes both parts.\n"
-                "Select a DimensionDrive, then the mesh, solid or FEM mesh of the other part.")
-
     def read_selection(self):
         """(drive, other): a DimensionDrive and one other object, else None."""
-        try:
-            items = [i.Object for i in Gui.Selection.getSelectionEx()]
-            if len(items) != 2:
-                return None
-            drives = [o for o in items if feature_type(o) == "DimensionDrive"]
-            others = [o for o in items if o not in drives[:1]]
-            if not drives or len(others) != 1 or not (
-                    selection.base_kind(others[0]) in ("Mesh", "Part")
-                    or others[0].isDerivedFrom("Fem::FemMeshObject")):
-                return None
-            return drives[0], others[0]
-        except Exception:
+        items = [i.Object for i in Gui.Selection.getSelectionEx()]
+        if len(items) != 2:
             return None
+        drives = [o for o in items if feature_type(o) == "DimensionDrive"]
+        others = [o for o in items if o not in drives[:1]]
+        if not drives or len(others) != 1 or not (
+                selection.base_kind(others[0]) in ("Mesh", "Part")
+                or others[0].isDerivedFrom("Fem::FemMeshObject")):
+            return None
+        return drives[0], others[0]
 
     def Activated(self):
-        fits = self.read_selection()
+        fits = self.fits()
         if fits is None:
             App.Console.PrintError(f"{self.MENU_TEXT}: {self.TOOL_TIP}\n")
             return
@@ -242,7 +209,7 @@ class MatchingDriveCommand(CommandBase):
         drive, other = fits
         try:
             obj = make_matching_drive(drive, other)
-        except Exception as e:
+        except CREATE_ERRORS as e:
             App.Console.PrintError(f"{self.MENU_TEXT}: {e}\n")
             return
         if obj.ViewObject is not None:
@@ -251,28 +218,26 @@ class MatchingDriveCommand(CommandBase):
         Gui.Selection.addSelection(obj)
 
 
+def one_element(prefixes):
+    """(object, "<Prefix>N", picked point or None) when the selection is exactly one
+    element (its name starting with one of `prefixes`) of one Part object, else None."""
+    items = Gui.Selection.getSelectionEx()
+    if len(items) != 1 or not items[0].Object.isDerivedFrom("Part::Feature"):
+        return None
+    names = [n for n in items[0].SubElementNames if n]
+    if len(names) != 1 or not names[0].startswith(prefixes):
+        return None
+    points = items[0].PickedPoints
+    return items[0].Object, names[0], (points[0] if points else None)
+
+
 class AreaConstrainCommand(CommandBase):
-    NAME = "Deform_AreaConstrain"
-    TYPE = "AreaConstrain"
-    MENU_TEXT = "Constrain area"
-    TOOL_TIP = ("Give a B-spline face an exact area by moving chosen poles of its control net "
-                "as little as possible (a face that is not a B-spline is converted).\n"
-                "Select one face of a shape; then set the target area or percentage and pick "
-                "the poles that may move in the task panel.")
     TARGET = "100%"  # the face as it is: a valid start, the user then sets the target
 
     def read_selection(self):
         """(base, "FaceN"): exactly one face of one Part object, else None."""
-        try:
-            items = Gui.Selection.getSelectionEx()
-            if len(items) != 1 or not items[0].Object.isDerivedFrom("Part::Feature"):
-                return None
-            names = [n for n in items[0].SubElementNames if n]
-            if len(names) != 1 or not names[0].startswith("Face"):
-                return None
-            return items[0].Object, names[0]
-        except Exception:
-            return None
+        fits = one_element(("Face",))
+        return fits[:2] if fits else None
 
     def create(self, base, face):
         from ..api import make_area_constrain
@@ -285,7 +250,7 @@ class AreaConstrainCommand(CommandBase):
         from ..shapes import bspline
         try:
             surface, _ = bspline.bspline_of(bspline.face_of(base.Shape, face)[1])
-        except Exception:
+        except (DeformError, RuntimeError):
             return None  # the object will say what is wrong with the face
         nu, nv = surface.NbUPoles, surface.NbVPoles
         if nu > 2 and nv > 2:
@@ -294,28 +259,10 @@ class AreaConstrainCommand(CommandBase):
 
 
 class DirectPushCommand(CommandBase):
-    NAME = "Deform_DirectPush"
-    TYPE = "DirectPush"
-    MENU_TEXT = "Direct push"
-    TOOL_TIP = ("Push any point of a curve or surface where it must go: the poles and knots "
-                "follow; a face of a solid bulges and the solid stays closed.\n"
-                "Select one edge or one face of a shape; then drag it in the 3D view while "
-                "the task panel is open (on a face, Shift at the press drags along its normal).")
-
     def read_selection(self):
         """(base, "EdgeN" or "FaceN", picked point or None): exactly one edge or one face
         of one Part object, else None."""
-        try:
-            items = Gui.Selection.getSelectionEx()
-            if len(items) != 1 or not items[0].Object.isDerivedFrom("Part::Feature"):
-                return None
-            names = [n for n in items[0].SubElementNames if n]
-            if len(names) != 1 or not names[0].startswith(("Edge", "Face")):
-                return None
-            points = items[0].PickedPoints
-            return items[0].Object, names[0], (points[0] if points else None)
-        except Exception:
-            return None
+        return one_element(("Edge", "Face"))
 
     def create(self, base, element, picked=None):
         """The object without pushes. make_direct_push needs one: a zero push at the picked
@@ -324,24 +271,22 @@ class DirectPushCommand(CommandBase):
         point = point_on_face(base.Shape.getElement(element), picked)
         obj = make_direct_push(base, element, point, point)
         if is_invalid(obj):
-            raise ValueError(obj.getStatusString())
+            raise DeformError(obj.getStatusString())
         obj.Points, obj.Targets = [], []
         obj.Document.recompute()
         return obj
 
 
-COMMANDS = [StretchCommand, BendCommand, TwistCommand, TaperCommand, DimensionDriveCommand,
-            MatchingDriveCommand,
-            AreaConstrainCommand, DirectPushCommand]
-TOOLBAR = [c.NAME for c in COMMANDS]
+TOOLBAR = [tool.command for tool in registry.TOOLBAR]
 
 
 def register():
-    """Add every command to FreeCAD once (Initialize may run again after a reload)."""
+    """Add every command of the registry to FreeCAD once (Initialize may run again after a
+    reload)."""
     known = set(Gui.listCommands())
-    for cls in COMMANDS:
-        if cls.NAME not in known:
-            Gui.addCommand(cls.NAME, cls())
+    for tool in registry.TOOLBAR:
+        if tool.command not in known:
+            Gui.addCommand(tool.command, registry.load(tool.command_class)(tool))
 
 
 register()

@@ -8,8 +8,6 @@ a click on it is mapped to the same facet of the Base (the dimension is defined 
 While the panel is open the mesh shows its segmented regions in colour (the view's
 Coloring), so the user sees what a click picks; the previous Coloring comes back on close.
 """
-import math
-
 import numpy as np
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -17,8 +15,10 @@ from PySide import QtCore, QtGui
 
 from ..geometry.mesh.regions import region_colours
 from ..ops import dimension_drive as op
-from .task_panel import (TaskPanelBase, on_value_changed, quantity_spin_box, results_box,
-                         set_spin_value, spin_value)
+from ..geometry.errors import DeformError
+from .bindings import on_value_changed, quantity_spin_box, set_spin_value, spin_value
+from .task_panel import TaskPanelBase
+from .widgets import length_text, results_box
 
 # What each picked point means, by Kind; Position takes further feature regions after these.
 ROLES = {"Distance": ("Moving plane", "Reference plane"), "Radius": ("Cylinder",),
@@ -75,7 +75,7 @@ def model_of(obj):
     """The feature's segmented Base (cached by the proxy), or None while there is none."""
     try:
         return obj.Proxy.model(obj)[0]
-    except Exception:
+    except (DeformError, RuntimeError):  # no mesh yet, or OCCT cannot tessellate the Base
         return None
 
 
@@ -87,7 +87,7 @@ def measured(obj):
         return None
     try:
         return op.measure(model, obj.Kind, obj.Regions, tuple(obj.Origin), tuple(obj.AxisPoint))
-    except Exception:
+    except DeformError:
         return None
 
 
@@ -103,24 +103,6 @@ def default_frame(obj, point):
     u = min(axes, key=lambda a: abs(a.dot(normal)))
     u = u - normal * u.dot(normal)
     return App.Vector(point), App.Vector(point) + u.normalize()
-
-
-def spin_box(unit, name, minimum=-1e9, maximum=1e9):
-    """quantity_spin_box, asked again when FreeCAD 0.20's PySide hands back the dead wrapper
-    of an earlier, deleted widget whose address the new one reuses (the new one then
-    stays hidden, unused)."""
-    for _ in range(20):
-        try:
-            return quantity_spin_box(unit, minimum, maximum, name=name)
-        except RuntimeError:
-            continue
-    return quantity_spin_box(unit, minimum, maximum, name=name)
-
-
-def length_text(value):
-    if math.isinf(value):
-        return "no limit"
-    return App.Units.Quantity(value, App.Units.Length).UserString
 
 
 def swatch(rgb):
@@ -175,7 +157,7 @@ class DimensionDrivePanel(TaskPanelBase):
         layout.addWidget(self.build_regions())
         form = QtGui.QFormLayout()
         self.add_quantity(form, "Target", "mm")
-        self.position_only = list(self.add_quantity(form, "TargetV", "mm"))
+        self.position_only = [self.add_quantity(form, "TargetV", "mm"), self.labels["TargetV"]]
         layout.addLayout(form)
         frame = QtGui.QGroupBox("Frame")
         frame.setObjectName("FrameGroup")
@@ -220,21 +202,8 @@ class DimensionDrivePanel(TaskPanelBase):
         grid.addWidget(self.hint, 2, 0, 1, 2)
         return box
 
-    def add_quantity(self, form, prop, unit, minimum=-1e9, maximum=1e9):
-        """A Gui::QuantitySpinBox named and labelled `prop`, bound to it (expressions)."""
-        box = spin_box(unit, prop, minimum, maximum)
-        box.setMinimumWidth(70)
-        box.setToolTip(self.obj.getDocumentationOfProperty(prop))
-        binding = Gui.ExpressionBinding(box)
-        binding.bind(self.obj, prop)
-        self.quantities[prop] = (box, binding)
-        on_value_changed(box, lambda *_: self.on_quantity(prop))
-        label = QtGui.QLabel(prop)  # made here: a label Qt makes may come back as a dead wrapper
-        form.addRow(label, box)
-        return box, label
-
     def add_frame_point(self, grid, row, prop):
-        boxes = [spin_box("mm", prop + c) for c in "XYZ"]
+        boxes = [quantity_spin_box("mm", name=prop + c) for c in "XYZ"]
         grid.addWidget(QtGui.QLabel(prop), row, 0)
         for column, box in enumerate(boxes):
             box.setToolTip(self.obj.getDocumentationOfProperty(prop))
@@ -335,8 +304,8 @@ class DimensionDrivePanel(TaskPanelBase):
         if obj.Mesh.CountFacets == 0:
             try:
                 obj.Mesh = obj.Proxy.base_mesh(obj)[2]
-            except Exception as e:
-                self.show_error(str(e))
+            except (DeformError, RuntimeError) as e:  # the Base, or OCCT tessellating it
+                self.refuse(e)
 
     def show_regions(self):
         """Colour the mesh by region. The view does not follow a new Mesh or colour list by
@@ -394,8 +363,8 @@ class DimensionDrivePanel(TaskPanelBase):
         try:
             view = Gui.getDocument(doc).ActiveView
             point = base_point(self.obj, picked, sub, point, App.Vector(view.getViewDirection()))
-        except Exception as e:
-            self.show_error(str(e))
+        except (DeformError, RuntimeError) as e:  # the Base, or OCCT tessellating it
+            self.refuse(e)
             return
         if point is None:
             return

@@ -27,14 +27,13 @@ from ..geometry.nurbs import push
 from ..geometry.nurbs.push import Grab, point_at
 from ..ops.direct_push import INPUTS, replay
 from ..shapes import bspline
+from ..geometry.errors import DeformError
+from .coin_nodes import Preview
 from .compat import event_position, sb_values
-from .dimension_drive_panel import length_text
-from .task_panel import TaskPanelBase, is_invalid, results_box
+from .task_panel import TaskPanelBase, is_invalid
+from .widgets import length_text, results_box
 
 OUTPUTS = ("MaxPoleMove", "PoleCount", "Conversion")
-NODE_NAME = "DeformDirectPush"
-GRAB_COLOUR = (1.0, 0.45, 0.0)
-CONSTRAINT_COLOUR = (0.0, 0.35, 0.85)
 CURVE_SAMPLES = 300
 SELECTION_OFF = 2          # SoFCUnifiedSelection's OFF (AUTO, ON, OFF)
 
@@ -115,123 +114,6 @@ class Drag:
 
 
 # --- what the 3D view shows -------------------------------------------------------------------
-class Marks:
-    """Points as markers and index pairs as segments, in one colour."""
-
-    def __init__(self, colour):
-        from pivy import coin
-        self.root = coin.SoSeparator()
-        base = coin.SoBaseColor()
-        base.rgb = colour
-        style = coin.SoDrawStyle()
-        style.lineWidth = 2
-        self.coords = coin.SoCoordinate3()
-        markers = coin.SoMarkerSet()
-        markers.markerIndex = coin.SoMarkerSet.CIRCLE_FILLED_9_9
-        self.lines = coin.SoIndexedLineSet()
-        for node in (base, style, self.coords, markers, self.lines):
-            self.root.addChild(node)
-        self.set([])
-
-    def set(self, points, segments=()):
-        points = [tuple(float(c) for c in p) for p in points]
-        index = [i for a, b in segments for i in (a, b, -1)]
-        self.lines.coordIndex.setNum(len(index))
-        if index:
-            self.lines.coordIndex.setValues(0, len(index), index)
-        self.coords.point.setNum(len(points))
-        if points:
-            self.coords.point.setValues(0, len(points), points)
-
-
-class Preview:
-    """Coin nodes in the 3D view while the panel is open, never picked: during a drag the
-    element as pushed (and the rest of a solid), the result's own display hidden; on top,
-    the constraints (blue) and the push being made (orange)."""
-
-    def __init__(self, view, vobj):
-        from pivy import coin
-        self.view, self.vobj = view, vobj
-        self.root = coin.SoSeparator()
-        self.root.setName(NODE_NAME)
-        pick = coin.SoPickStyle()
-        pick.style = coin.SoPickStyle.UNPICKABLE
-        self.shape = coin.SoSwitch()
-        self.constraints, self.grab = Marks(CONSTRAINT_COLOUR), Marks(GRAB_COLOUR)
-        top = coin.SoAnnotation()
-        top.addChild(self.constraints.root)
-        top.addChild(self.grab.root)
-        for node in (pick, self.shape, top):
-            self.root.addChild(node)
-        self.hidden = None       # the result's whichChild while a drag hides it
-        view.getSceneGraph().addChild(self.root)
-
-    def begin(self, curve, rest=None):
-        """Show a drag: a curve or a surface (update() gives its points), `rest` (points,
-        triangles) as it is; the result's display hidden."""
-        from pivy import coin
-        group = coin.SoSeparator()
-        material = coin.SoMaterial()
-        material.diffuseColor = self._view_property("LineColor" if curve else "ShapeColor",
-                                                    (0.8, 0.8, 0.8))[:3]
-        hints = coin.SoShapeHints()
-        hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE  # lit from both sides
-        hints.creaseAngle = 1.0
-        style = coin.SoDrawStyle()
-        style.lineWidth = self._view_property("LineWidth", 2.0)
-        for node in (material, hints, style):
-            group.addChild(node)
-        if rest is not None:
-            points, triangles = rest
-            part = coin.SoSeparator()
-            coords = coin.SoCoordinate3()
-            coords.point.setValues(0, len(points), [tuple(p) for p in points])
-            faces = coin.SoIndexedFaceSet()
-            index = [i for triangle in triangles for i in (*triangle, -1)]
-            faces.coordIndex.setValues(0, len(index), index)
-            part.addChild(coords)
-            part.addChild(faces)
-            group.addChild(part)
-        self.coords = coin.SoCoordinate3()
-        self.mesh = coin.SoLineSet() if curve else coin.SoQuadMesh()
-        group.addChild(self.coords)
-        group.addChild(self.mesh)
-        self.shape.removeAllChildren()
-        self.shape.addChild(group)
-        self.shape.whichChild = 0
-        switch = self.vobj.SwitchNode
-        if self.hidden is None:
-            self.hidden = switch.whichChild.getValue()
-        switch.whichChild = -1
-
-    def update(self, points):
-        """The dragged element's points: (k, 3) along a curve, (a, b, 3) over a surface."""
-        if points.ndim == 3:
-            self.mesh.verticesPerColumn, self.mesh.verticesPerRow = points.shape[:2]
-        else:
-            self.mesh.numVertices.setValue(len(points))
-        flat = points.reshape(-1, 3)
-        self.coords.point.setValues(0, len(flat), flat.tolist())
-
-    def end(self):
-        self.shape.whichChild = -1
-        self.shape.removeAllChildren()
-        self.grab.set([])
-        if self.hidden is not None:
-            self.vobj.SwitchNode.whichChild = self.hidden
-            self.hidden = None
-
-    def remove(self):
-        self.end()
-        self.view.getSceneGraph().removeChild(self.root)
-
-    def _view_property(self, name, default):
-        try:
-            return getattr(self.vobj, name)
-        except Exception:
-            return default
-
-
 def rest_of(shape, component):
     """(points, triangles) of the result's faces other than `component`, or None."""
     import Part
@@ -405,8 +287,8 @@ class DirectPushPanel(TaskPanelBase):
             for a, b in state.spans:
                 segments.append((len(points), len(points) + 1))
                 points += [point_at(state.current, a), point_at(state.current, b)]
-        except Exception:
-            pass  # the feature's error says what is wrong
+        except (DeformError, RuntimeError):  # bad inputs or OCCT: the feature says why
+            pass
         if self.pending is not None:
             points.append(tuple(self.pending))
         self.preview.constraints.set(points, segments)
@@ -434,8 +316,8 @@ class DirectPushPanel(TaskPanelBase):
             params = self.state().params
             state = replay(inputs, [params[i] for i in keep])
             inputs["Points"] = [App.Vector(*p) for p in state.points]
-        except Exception:
-            state = None  # the points stay; the feature says what is wrong
+        except (DeformError, RuntimeError):  # bad inputs or OCCT: the feature says why
+            state = None  # the points stay
         for name in ("Points", "Targets", *changes):
             setattr(obj, name, inputs[name])
         if state is not None:
@@ -575,8 +457,8 @@ class DirectPushPanel(TaskPanelBase):
                 return True
             self.drag = Drag(self.preview.view, Grab(state, state.current, at), x, y,
                              along_normal)
-        except Exception as e:
-            self.show_error(str(e))
+        except (DeformError, RuntimeError) as e:  # bad inputs or OCCT
+            self.refuse(e)
             return False
         self.frame_times = []
         self.preview.begin(state.shape_type == "Edge", rest_of(self.obj.Shape, component))
@@ -590,7 +472,7 @@ class DirectPushPanel(TaskPanelBase):
         target = drag.target(x, y)
         try:
             drag.arrays = drag.grab.pushed(target)
-        except Exception as e:  # e.g. a fixed point right there: the last preview stays
+        except DeformError as e:  # e.g. a fixed point right there: the last preview stays
             self.hint.setText(str(e))
             return
         drag.reached = target

@@ -2,12 +2,13 @@
 dragged along its normal, and Distance, Angle or Scale follow a handle of their own (Coin's
 translate and disc draggers). They sit just outside the part's bounding box, so the mouse
 finds them in front of the part; every drag sets the property and the preview follows."""
-import math
-
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore
 
+from ..geometry.sweep.defaults import across
+from ..shapes.convert import vector
+from .coin_nodes import Handle
 from .selection import bound_box
 from .widgets import direction_of
 
@@ -15,54 +16,6 @@ SIZE = 0.08      # dragger size, x the Base's bounding-box diagonal
 OUT = 0.6        # distance of a handle from the box centre's projection, x the diagonal
 POLL_MS = 30     # how often a dragged handle is read
 DISC = 2.5       # the angle disc's size, x a slider's: room to sweep it far from its centre
-
-
-def _frame(normal):
-    """A unit vector across `normal`: the world axis least along it, made perpendicular."""
-    axes = [App.Vector(1, 0, 0), App.Vector(0, 1, 0), App.Vector(0, 0, 1)]
-    axis = min(axes, key=lambda a: abs(a.dot(normal)))
-    across = axis - normal * axis.dot(normal)
-    return across.normalize()
-
-
-class Handle:
-    """One Coin dragger: "slide" moves along the local X of its frame, "turn" turns about its
-    local Z. Its amount is read by polling, not by a dragger callback: pivy runs those
-    without taking Python's lock, which crashes when the event comes from Python."""
-
-    def __init__(self, kind):
-        from pivy import coin
-        self.kind, self.size = kind, 1.0
-        self.root = coin.SoSeparator()
-        self.transform = coin.SoTransform()
-        self.dragger = coin.SoTranslate1Dragger() if kind == "slide" else \
-            coin.SoRotateDiscDragger()
-        self.root.addChild(self.transform)
-        self.root.addChild(self.dragger)
-
-    def place(self, point, direction, size):
-        """Put the dragger at `point`, its slide (or turn axis) along `direction`."""
-        from pivy import coin
-        local = coin.SbVec3f(1, 0, 0) if self.kind == "slide" else coin.SbVec3f(0, 0, 1)
-        self.size = size
-        self.transform.translation.setValue(point.x, point.y, point.z)
-        self.transform.rotation.setValue(
-            coin.SbRotation(local, coin.SbVec3f(direction.x, direction.y, direction.z)))
-        self.transform.scaleFactor.setValue(size, size, size)
-        if self.kind == "slide":
-            self.dragger.translation.setValue(0, 0, 0)
-        else:
-            self.dragger.rotation.setValue(coin.SbRotation())
-
-    def active(self):
-        return bool(self.dragger.isActive.getValue())
-
-    def amount(self):
-        """mm along the slide, or degrees about the turn axis, since the last place()."""
-        if self.kind == "slide":
-            return self.dragger.translation.getValue()[0] * self.size
-        x, y, z, w = self.dragger.rotation.getValue().getValue()
-        return math.degrees(2.0 * math.atan2(z, w))
 
 
 class PanelHandles:
@@ -74,7 +27,12 @@ class PanelHandles:
         self.handles, self.start, self.dragging = {}, {}, False
         from pivy import coin  # noqa: F401  (FreeCAD 1.1 wraps the scene graph only after it)
         view = Gui.ActiveDocument.ActiveView if Gui.ActiveDocument else None
-        self.scene = view.getSceneGraph() if view is not None else None
+        self.scene = None
+        if hasattr(view, "getSceneGraph"):   # a 3D view (not a page, spreadsheet, ...)
+            try:
+                self.scene = view.getSceneGraph()
+            except RuntimeError as e:  # FreeCAD could not hand the scene graph to pivy
+                App.Console.PrintWarning(f"{panel.TYPE}: no handles in the 3D view ({e})\n")
         if self.scene is None:
             return
         for name in names:
@@ -108,23 +66,23 @@ class PanelHandles:
         box = bound_box(obj.Base)
         centre, reach = App.Vector(box.Center), OUT * box.DiagonalLength
         normal = direction_of(obj.Plane)
-        across = _frame(normal)
+        side = vector(across(tuple(normal)))   # where the handles sit beside the part
 
         def in_plane(placement):
             return centre + normal * (placement.Base - centre).dot(normal)
 
         if name == "Plane":
-            return in_plane(obj.Plane) + across * reach, normal
+            return in_plane(obj.Plane) + side * reach, normal
         if name == "Plane2":
-            return in_plane(obj.Plane2) + across * reach, normal
+            return in_plane(obj.Plane2) + side * reach, normal
         if name == "Distance":
-            return in_plane(obj.Plane) - across * reach + normal * obj.Distance.Value, normal
+            return in_plane(obj.Plane) - side * reach + normal * obj.Distance.Value, normal
         if name == "Scale":
-            return in_plane(obj.Plane2) - across * reach, -across
+            return in_plane(obj.Plane2) - side * reach, -side
         # Angle: about the Axis (Bend), or about the normal beyond Plane2 (Twist)
         if self.panel.TYPE == "Bend":
             return obj.Axis.Base, direction_of(obj.Axis)
-        return in_plane(obj.Plane2) - across * reach, normal
+        return in_plane(obj.Plane2) - side * reach, normal
 
     def place(self):
         """Every handle where the object's properties put it, its drag reset."""

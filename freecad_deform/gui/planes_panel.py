@@ -1,18 +1,19 @@
 """PlanesPanel: what the Stretch, Bend, Twist and Taper task panels share (Wu & Ilies's split,
-sweep, join): the Plane group, the Plane2 offset, the Axis group, quantity fields bound to
-their properties, Samples, and the results. Each panel's build() lays out its own
+sweep, join): the Plane group, the Plane2 offset, the Axis group, fields bound to their
+properties (bindings.py), Samples, and the results. Each panel's build() lays out its own
 selection of these pieces, in the order of its properties.
 """
 import FreeCAD as App
 import FreeCADGui as Gui
-from PySide import QtGui
 
+from ..geometry.errors import DeformError
 from ..shapes.convert import plane_placement
 from . import selection
+from .bindings import (check_box, combo_box, int_spin_box, on_value_changed, quantity_spin_box,
+                       set_spin_value, show_combo, spin_value)
 from .handles import PanelHandles
-from .task_panel import (TaskPanelBase, number, on_value_changed, quantity_spin_box,
-                         set_spin_value, spin_value)
-from .widgets import PlacementGroup, ResultsGroup, direction_of
+from .task_panel import TaskPanelBase
+from .widgets import PlacementGroup, direction_of, results_box, show_texts
 
 
 class PlanesPanel(TaskPanelBase):
@@ -24,7 +25,6 @@ class PlanesPanel(TaskPanelBase):
     HANDLES = ()          # the 3D-view handles (gui.handles): Plane, Plane2, Distance, ...
 
     def __init__(self, *args, **kwargs):
-        self.quantities = {}  # property -> (QuantitySpinBox, ExpressionBinding)
         self.checks, self.choices = {}, {}  # property -> QCheckBox / QComboBox
         self.plane = self.axis = self.results = self.handles = None
         self.use_plane2 = self.plane2_offset = self.samples = None
@@ -32,7 +32,9 @@ class PlanesPanel(TaskPanelBase):
         if self.HANDLES:
             try:
                 self.handles = PanelHandles(self, self.HANDLES)
-            except (ImportError, RuntimeError, AttributeError) as e:  # a view without Coin
+            except ImportError as e:  # a FreeCAD without pivy: the panel works without them
+                if e.name != "pivy":
+                    raise
                 App.Console.PrintWarning(f"{self.TYPE}: no handles in the 3D view ({e})\n")
 
     # --- the 3D-view handles --------------------------------------------------------------
@@ -75,25 +77,10 @@ class PlanesPanel(TaskPanelBase):
         self.axis.connect(self.on_axis_edited, self.on_pick_axis, self.on_flip_axis)
         layout.addWidget(self.axis.box)
 
-    def add_quantity(self, form, prop, unit, minimum=-1e9, maximum=1e9):
-        """A Gui::QuantitySpinBox labelled and named `prop`, bound to the property with an
-        ExpressionBinding (the f(x) button; an expression drives the value)."""
-        box = quantity_spin_box(unit, minimum, maximum, name=prop)
-        box.setMinimumWidth(70)
-        box.setToolTip(self.obj.getDocumentationOfProperty(prop))
-        binding = Gui.ExpressionBinding(box)
-        binding.bind(self.obj, prop)
-        self.quantities[prop] = (box, binding)
-        on_value_changed(box, lambda *_: self.on_quantity_edited(prop))
-        form.addRow(prop, box)
-        return box
-
     def add_check(self, form, prop, toggled=None):
         """A check box named `prop`, bound to the bool property; `toggled(checked)` runs
         after the property is set (before the preview)."""
-        box = QtGui.QCheckBox(prop)
-        box.setObjectName(prop)
-        box.setToolTip(self.obj.getDocumentationOfProperty(prop))
+        box = check_box(self.obj, prop)
         box.toggled.connect(lambda checked: self.on_check(prop, checked, toggled))
         self.checks[prop] = box
         form.addRow(box)
@@ -113,10 +100,7 @@ class PlanesPanel(TaskPanelBase):
 
     def add_choice(self, form, prop):
         """A combo box named `prop` with the enumeration property's values."""
-        combo = QtGui.QComboBox()
-        combo.setObjectName(prop)
-        combo.addItems(self.obj.getEnumerationsOfProperty(prop))
-        combo.setToolTip(self.obj.getDocumentationOfProperty(prop))
+        combo = combo_box(self.obj, prop)
         combo.currentIndexChanged.connect(lambda _: self.on_choice(prop, combo.currentText()))
         self.choices[prop] = combo
         form.addRow(prop, combo)
@@ -128,9 +112,7 @@ class PlanesPanel(TaskPanelBase):
         self.add_quantity(form, "Tolerance", "mm", 1e-9, 1e6)
 
     def add_use_plane2(self, form):
-        self.use_plane2 = QtGui.QCheckBox("UsePlane2")
-        self.use_plane2.setObjectName("UsePlane2")
-        self.use_plane2.setToolTip(self.obj.getDocumentationOfProperty("UsePlane2"))
+        self.use_plane2 = check_box(self.obj, "UsePlane2")
         self.use_plane2.toggled.connect(self.on_use_plane2)
         form.addRow(self.use_plane2)
 
@@ -144,16 +126,17 @@ class PlanesPanel(TaskPanelBase):
         form.addRow("Plane2 offset", self.plane2_offset)
 
     def add_samples(self, form, minimum=1):
-        self.samples = QtGui.QSpinBox()
-        self.samples.setObjectName("Samples")
-        self.samples.setRange(minimum, 1000)
-        self.samples.setToolTip(self.obj.getDocumentationOfProperty("Samples"))
+        self.samples = int_spin_box(self.obj, "Samples", minimum, 1000)
         self.samples.valueChanged.connect(self.on_samples_edited)
         form.addRow("Samples", self.samples)
 
     def add_results(self, layout):
-        self.results = ResultsGroup(self.obj)
-        layout.addWidget(self.results.box)
+        """VolumeChange, Continuity, and MaxDeviation where the feature has it."""
+        names = ["VolumeChange", "Continuity"]
+        if "MaxDeviation" in self.obj.PropertiesList:  # the features with a space map
+            names.append("MaxDeviation")
+        box, self.results = results_box(self.obj, names)
+        layout.addWidget(box)
 
     # --- showing values ---------------------------------------------------------------------------
     def load(self):
@@ -162,12 +145,11 @@ class PlanesPanel(TaskPanelBase):
             self.plane.show(obj.Plane)
         if self.axis is not None:
             self.axis.show(obj.Axis)
-        for prop, (box, _) in self.quantities.items():
-            set_spin_value(box, number(getattr(obj, prop)))
+        self.load_quantities()
         for prop, box in self.checks.items():
             box.setChecked(bool(getattr(obj, prop)))
         for prop, combo in self.choices.items():
-            combo.setCurrentIndex(combo.findText(getattr(obj, prop)))
+            show_combo(combo, getattr(obj, prop))
         if "UseAxis" in self.checks:   # Pick axis also turns it on
             self.axis.set_fields_enabled(bool(obj.UseAxis))
         if self.use_plane2 is not None:
@@ -179,12 +161,20 @@ class PlanesPanel(TaskPanelBase):
             self.samples.setValue(int(obj.Samples))
 
     def show_results(self):
-        if self.results is not None:
-            self.results.show(self.obj)
+        if self.results is None:
+            return
+        obj, lines = self.obj, self.results
+        continuity = obj.Continuity or "-"
+        texts = {"VolumeChange": f"{obj.VolumeChange:.6g} mm³", "Continuity": continuity}
+        if "MaxDeviation" in lines:
+            texts["MaxDeviation"] = f"{obj.MaxDeviation:.3g} mm"
+        show_texts(lines, texts)
+        lines["Continuity"].setToolTip("\n".join(continuity.split("; ")) + "\n\n"
+                                       + obj.getDocumentationOfProperty("Continuity"))
 
     def clear_results(self):
-        if self.results is not None:
-            self.results.clear()
+        for line in (self.results or {}).values():
+            line.clear()
 
     # --- Plane and Plane2 -------------------------------------------------------------------------
     def uses_plane2(self):
@@ -195,10 +185,7 @@ class PlanesPanel(TaskPanelBase):
         obj = self.obj
         if self.uses_plane2():
             return (obj.Plane2.Base - obj.Plane.Base).dot(direction_of(obj.Plane))
-        try:
-            _, hi = selection.extent(obj.Base, obj.Plane)
-        except Exception:
-            hi = 0.0
+        hi = selection.extent(obj.Base, obj.Plane)[1] if selection.base_kind(obj.Base) else 0.0
         return 0.5 * hi if hi > 0 else 10.0
 
     def _set_plane2(self):
@@ -208,24 +195,19 @@ class PlanesPanel(TaskPanelBase):
 
     def _set_plane(self, plane):
         """Set Plane; Plane2, when used, follows at the same offset."""
-        if self._loading or self.closed:
-            return
-        try:
+        def change():
             self.obj.Plane = plane
             if self.uses_plane2():
                 self._set_plane2()
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        self.schedule_recompute()
+        self.apply(change)
 
     def on_plane_edited(self, *_):
         if self._loading:
             return
         try:
             plane = self.plane.value(self.obj.Plane)
-        except Exception as e:
-            self.show_error(str(e))
+        except DeformError as e:   # a zero normal
+            self.refuse(e)
             return
         self._set_plane(plane)
 
@@ -235,10 +217,8 @@ class PlanesPanel(TaskPanelBase):
             self.show_error("Select a planar face or a datum plane, then press "
                             "'Pick plane'.")
             return
-        try:
-            plane = selection.suggested_plane(self.obj.Base, picked)
-        except Exception:
-            plane = picked
+        plane = selection.suggested_plane(self.obj.Base, picked) \
+            if selection.base_kind(self.obj.Base) else picked
         Gui.Selection.clearSelection()
         self._set_plane(plane)
         self.reload()
@@ -256,24 +236,16 @@ class PlanesPanel(TaskPanelBase):
         if self._loading or self.closed:
             return
         self.plane2_offset.setEnabled(checked)
-        try:
+
+        def change():
             if checked:
                 self._set_plane2()
             self.obj.UsePlane2 = bool(checked)
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        self.schedule_recompute()
+        self.apply(change)
 
     def on_plane2_edited(self, *_):
-        if self._loading or self.closed or not self.uses_plane2():
-            return
-        try:
-            self._set_plane2()
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        self.schedule_recompute()
+        if not (self._loading or self.closed) and self.uses_plane2():
+            self.apply(self._set_plane2)
 
     # --- Axis -------------------------------------------------------------------------------------
     def on_axis_edited(self, *_):
@@ -281,8 +253,8 @@ class PlanesPanel(TaskPanelBase):
             return
         try:
             axis = self.axis.value(self.obj.Axis)
-        except Exception as e:
-            self.show_error(str(e))
+        except DeformError as e:   # a zero direction
+            self.refuse(e)
             return
         self.set_property("Axis", axis)
 
@@ -300,8 +272,8 @@ class PlanesPanel(TaskPanelBase):
             return
         try:
             axis = self.picked_axis(line)
-        except Exception as e:
-            self.show_error(str(e))
+        except DeformError as e:
+            self.refuse(e)
             return
         Gui.Selection.clearSelection()
         self.set_property("Axis", axis)
@@ -314,25 +286,15 @@ class PlanesPanel(TaskPanelBase):
 
     # --- quantities, checks and Samples -----------------------------------------------------------
     def on_check(self, prop, checked, toggled=None):
-        if self._loading or self.closed:
-            return
-        try:
+        def change():
             setattr(self.obj, prop, bool(checked))
             if toggled is not None:
                 toggled(checked)
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        self.schedule_recompute()
+        self.apply(change)
 
     def on_choice(self, prop, value):
         if value and value != getattr(self.obj, prop):
             self.set_property(prop, value)
-
-    def on_quantity_edited(self, prop):
-        if self._loading:
-            return
-        self.quantity_edited(prop, *self.quantities[prop])
 
     def on_samples_edited(self, value):
         if not self._loading and int(value) != self.obj.Samples:

@@ -7,85 +7,21 @@ Life of a panel:
 - Editing (double-click, setEdit): the panel remembers the editable properties (and their
   expressions) and opens its own transaction "Edit <TYPE>". OK commits it, Cancel puts the
   old values back and aborts it.
-Every change in a field sets the property at once and recomputes shortly after (a short
-timer merges fast typing into one recompute), so the user sees the result while editing.
-Errors go to a red label in the panel, never to a dialog.
+Every change in a field sets the property at once (apply / set_property) and recomputes
+shortly after (a short timer merges fast typing into one recompute), so the user sees the
+result while editing. Errors go to a red label in the panel, never to a dialog, and the
+field of the property a refusal names is outlined (mark_field).
 """
-import importlib
-import re
-
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 from . import icon_path
-from .view_providers import feature_type
+from .bindings import SET_ERRORS, bound_quantity, number, on_value_changed, set_spin_value, \
+    spin_value
 
 ERROR_COLOR = "#c00000"
 ERROR_STYLE = f"QLabel {{ color: {ERROR_COLOR}; font-weight: bold; }}"
-
-
-def panel_class(obj):
-    """The task panel class of `obj`: <Type>Panel in freecad_deform.gui.<type>_panel
-    (DimensionDrive: dimension_drive_panel)."""
-    kind = feature_type(obj)
-    snake = re.sub(r"(?<!^)(?=[A-Z])", "_", kind).lower()
-    try:
-        module = importlib.import_module(f"{__package__}.{snake}_panel")
-    except ImportError:
-        return None
-    return getattr(module, kind + "Panel", None)
-
-
-def quantity_spin_box(unit="mm", minimum=-1e9, maximum=1e9, name=None):
-    """A Gui::QuantitySpinBox (units, expressions, the f(x) icon) from FreeCAD's UiLoader."""
-    box = Gui.UiLoader().createWidget("Gui::QuantitySpinBox")
-    box.setProperty("unit", unit)
-    box.setProperty("minimum", minimum)
-    box.setProperty("maximum", maximum)
-    if name:
-        box.setObjectName(name)
-    return box
-
-
-def on_value_changed(box, slot):
-    """Connect a QuantitySpinBox's valueChanged. The widget comes wrapped as its nearest
-    Qt class (QAbstractSpinBox), so the signal is looked up dynamically; the string form
-    is the fallback for bindings that do not do that."""
-    try:
-        box.valueChanged.connect(slot)
-    except AttributeError:
-        QtCore.QObject.connect(box, QtCore.SIGNAL("valueChanged(double)"), slot)
-
-
-def spin_value(box):
-    """The value of a QuantitySpinBox in its unit's internal scale (mm, deg...)."""
-    return float(box.property("rawValue"))
-
-
-def number(value):
-    """A property's value as a float: a Quantity's Value, or the float itself."""
-    return float(getattr(value, "Value", value))
-
-
-def set_spin_value(box, value):
-    box.setProperty("rawValue", float(value))
-
-
-def results_box(obj, names):
-    """(a "Result" group with one read-only line per output property of `obj`, its tooltip
-    the property's documentation; {name: line})."""
-    box = QtGui.QGroupBox("Result")
-    form = QtGui.QFormLayout(box)
-    lines = {}
-    for name in names:
-        line = QtGui.QLineEdit()
-        line.setObjectName(name)
-        line.setReadOnly(True)
-        line.setToolTip(obj.getDocumentationOfProperty(name))
-        form.addRow(name, line)
-        lines[name] = line
-    return box, lines
 
 
 def is_invalid(obj):
@@ -95,7 +31,8 @@ def is_invalid(obj):
 
 class TaskPanelBase:
     """Subclasses set TYPE (and TITLE) and EDITABLE, and implement build(layout) and
-    load(); their field handlers call set_property(), which sets and previews."""
+    load(); their fields come from add_quantity() and bindings.py, their handlers call
+    set_property() or apply(), which set and preview."""
 
     TYPE = "Deform"
     TITLE = None              # defaults to TYPE
@@ -109,6 +46,8 @@ class TaskPanelBase:
         self.restore_visibility = dict(restore_visibility or {})
         self.closed = False
         self._loading = False
+        self.quantities = {}  # property -> (QuantitySpinBox, ExpressionBinding)
+        self.labels = {}      # property -> its QLabel in a form
         if created:
             self.transaction = transaction
             self.saved = None
@@ -163,16 +102,47 @@ class TaskPanelBase:
         finally:
             self._loading = False
 
+    def apply(self, change, *args):
+        """A field was edited: run change(*args) (it sets properties), then schedule the
+        preview. A refusal goes to the panel; False then, or while loading or closed."""
+        if self._loading or self.closed:
+            return False
+        try:
+            change(*args)
+        except SET_ERRORS as e:
+            self.refuse(e)
+            return False
+        self.schedule_recompute()
+        return True
+
+    def refuse(self, error):
+        """Show a refused edit; a DeformError's property gets its field outlined."""
+        self.show_error(str(error))
+        if getattr(error, "prop", None):
+            self.mark_field(error.prop)
+
     def set_property(self, name, value):
         """Set obj.<name> from a field and schedule the preview; errors go to the panel."""
-        if self._loading or self.closed:
-            return
-        try:
-            setattr(self.obj, name, value)
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        self.schedule_recompute()
+        return self.apply(setattr, self.obj, name, value)
+
+    # --- quantity fields ----------------------------------------------------------------------
+    def add_quantity(self, form, prop, unit, minimum=-1e9, maximum=1e9):
+        """A QuantitySpinBox named and labelled `prop` in `form`, bound to the property
+        (bindings.bound_quantity: units, expressions); an edit calls on_quantity(prop)."""
+        box, binding = bound_quantity(self.obj, prop, unit, minimum, maximum)
+        self.quantities[prop] = (box, binding)
+        on_value_changed(box, lambda *_: self.on_quantity(prop))
+        self.labels[prop] = QtGui.QLabel(prop)  # made here: one Qt makes may come back dead
+        form.addRow(self.labels[prop], box)
+        return box
+
+    def load_quantities(self):
+        for prop, (box, _) in self.quantities.items():
+            set_spin_value(box, number(getattr(self.obj, prop)))
+
+    def on_quantity(self, prop):
+        if not self._loading:
+            self.quantity_edited(prop, *self.quantities[prop])
 
     def quantity_edited(self, prop, box, binding):
         """A QuantitySpinBox for `prop` was edited: an expression on it drives the property
@@ -195,7 +165,7 @@ class TaskPanelBase:
             return
         try:
             self.doc.recompute()
-        except Exception as e:  # recompute reports feature errors in the object, not here
+        except RuntimeError as e:  # feature errors land in the object; this is the document's
             self.show_error(str(e))
             return
         self.update_status()
@@ -286,7 +256,7 @@ class TaskPanelBase:
         for name, value in values.items():
             try:
                 setattr(self.obj, name, value)
-            except Exception as e:
+            except SET_ERRORS as e:
                 App.Console.PrintWarning(f"Could not restore {name}: {e}\n")
         for path, expression in expressions:
             self.obj.setExpression(path, expression)

@@ -2,8 +2,8 @@
 Samples, Profile, Tolerance, and the results."""
 from PySide import QtGui
 
+from .bindings import set_spin_value, spin_value
 from .planes_panel import PlanesPanel
-from .task_panel import set_spin_value, spin_value
 
 
 class TwistPanel(PlanesPanel):
@@ -37,13 +37,11 @@ class TwistPanel(PlanesPanel):
     def set_total_angle(self, total):
         """Angle + 360 deg x Turns = total (whole turns to Turns)."""
         turns = int(total / 360.0)
-        try:
+
+        def change():
             self.obj.Turns = turns
             self.obj.Angle = total - 360.0 * turns
-        except Exception as e:
-            self.show_error(str(e))
-            return
-        self.schedule_recompute()
+        self.apply(change)
 
     def quantity_edited(self, prop, box, binding):
         """The Angle field holds the whole twist: its whole turns go to Turns (an angle

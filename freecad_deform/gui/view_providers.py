@@ -7,6 +7,7 @@ is None, so nothing is pickled.
 import FreeCAD as App
 import FreeCADGui as Gui
 
+from .. import registry
 from . import icon_path
 
 # Base view properties a new result takes over, so it looks like what it replaces.
@@ -26,14 +27,23 @@ def attach(obj):
             if name in base.ViewObject.PropertiesList and name in vobj.PropertiesList:
                 try:
                     setattr(vobj, name, getattr(base.ViewObject, name))
-                except Exception:
-                    pass  # e.g. a display mode the result does not have
+                except ValueError:
+                    pass  # a display mode the result does not have
     return vobj.Proxy
 
 
 def feature_type(obj):
     """The proxy's TYPE ("Stretch", ...), or "Deform" when it is not known (yet)."""
     return getattr(getattr(obj, "Proxy", None), "TYPE", None) or "Deform"
+
+
+def panel_class(obj):
+    """The task panel class of `obj` (registry.py: <Type>Panel in gui/<type>_panel.py), or
+    None when its feature has no panel. An error inside the panel's module is raised."""
+    feature = registry.feature(feature_type(obj))
+    if feature is None or feature.panel_class is None:
+        return None
+    return registry.load(feature.panel_class)
 
 
 class ViewProviderDeform:
@@ -72,7 +82,6 @@ class ViewProviderDeform:
     def setEdit(self, vobj, mode=0):
         if mode != 0:
             return None  # FreeCAD's own modes (Transform, ...) stay available
-        from .task_panel import panel_class
         if Gui.Control.activeDialog():
             App.Console.PrintWarning("Close the open task panel before editing "
                                      f"{vobj.Object.Label}.\n")

@@ -1,16 +1,19 @@
-"""Field groups the Deform task panels share.
+"""Widgets the Deform task panels share (the fields bound to single properties are in
+bindings.py).
 
 PlacementGroup shows a Placement property that stands for a point and a direction (Plane:
-origin and normal; Axis: point and direction) with Pick and Flip buttons; ResultsGroup
-shows the read-only outputs VolumeChange and Continuity. Widgets carry object names made
-from the property names (PlaneOriginX, AxisDirectionZ, PickAxis, VolumeChange, ...) so
-tests and macros find them.
+origin and normal; Axis: point and direction) with Pick and Flip buttons; results_box shows
+read-only output properties. Widgets carry object names made from the property names
+(PlaneOriginX, AxisDirectionZ, PickAxis, VolumeChange, ...) so tests and macros find them.
 """
+import math
+
 import FreeCAD as App
 from PySide import QtGui
 
+from ..geometry.errors import DeformError
 from ..shapes.convert import plane_placement
-from .task_panel import on_value_changed, quantity_spin_box, set_spin_value, spin_value
+from .bindings import on_value_changed, quantity_spin_box, set_spin_value, spin_value
 
 Z = App.Vector(0, 0, 1)
 
@@ -79,8 +82,8 @@ class PlacementGroup:
         point = App.Vector(*(spin_value(b) for b in self.point))
         direction = App.Vector(*(b.value() for b in self.direction))
         if direction.Length < 1e-12:
-            raise ValueError(f"{self.prop} {self.direction_title.lower()} is zero; give "
-                             f"{self.prop} a direction.")
+            raise DeformError(f"{self.prop} {self.direction_title.lower()} is zero; give "
+                              f"{self.prop} a direction.", self.prop)
         if direction.normalize().isEqual(direction_of(current), 1e-9):
             return App.Placement(point, current.Rotation)
         return plane_placement((point, direction), self.prop)
@@ -94,44 +97,31 @@ class PlacementGroup:
             widget.setEnabled(enabled)
 
 
-class ResultsGroup:
-    """The read-only outputs of a split-sweep feature: VolumeChange, Continuity, and
-    MaxDeviation where the feature has it."""
+def results_box(obj, names):
+    """(a "Result" group with one read-only line per output property of `obj`, each named
+    after it, its tooltip the property's documentation; {name: line})."""
+    box = QtGui.QGroupBox("Result")
+    form = QtGui.QFormLayout(box)
+    lines = {}
+    for name in names:
+        line = QtGui.QLineEdit()
+        line.setObjectName(name)
+        line.setReadOnly(True)
+        line.setToolTip(obj.getDocumentationOfProperty(name))
+        form.addRow(name, line)
+        lines[name] = line
+    return box, lines
 
-    def __init__(self, obj):
-        self.box = QtGui.QGroupBox("Result")
-        form = QtGui.QFormLayout(self.box)
-        self.volume_change = QtGui.QLineEdit()
-        self.volume_change.setObjectName("VolumeChange")
-        self.volume_change.setReadOnly(True)
-        self.volume_change.setToolTip(obj.getDocumentationOfProperty("VolumeChange"))
-        self.continuity = QtGui.QLineEdit()
-        self.continuity.setObjectName("Continuity")
-        self.continuity.setReadOnly(True)
-        self._continuity_doc = obj.getDocumentationOfProperty("Continuity")
-        self.continuity.setToolTip(self._continuity_doc)
-        form.addRow("VolumeChange", self.volume_change)
-        form.addRow("Continuity", self.continuity)
-        self.deviation = None
-        if "MaxDeviation" in obj.PropertiesList:  # the features with a space map
-            self.deviation = QtGui.QLineEdit()
-            self.deviation.setObjectName("MaxDeviation")
-            self.deviation.setReadOnly(True)
-            self.deviation.setToolTip(obj.getDocumentationOfProperty("MaxDeviation"))
-            form.addRow("MaxDeviation", self.deviation)
 
-    def show(self, obj):
-        self.volume_change.setText(f"{obj.VolumeChange:.6g} mm³")
-        self.volume_change.setCursorPosition(0)
-        self.continuity.setText(obj.Continuity or "-")
-        self.continuity.setCursorPosition(0)
-        self.continuity.setToolTip("\n".join((obj.Continuity or "-").split("; "))
-                                   + "\n\n" + self._continuity_doc)
-        if self.deviation is not None:
-            self.deviation.setText(f"{obj.MaxDeviation:.3g} mm")
+def show_texts(lines, texts):
+    """Put texts[name] into lines[name], each shown from its start."""
+    for name, text in texts.items():
+        lines[name].setText(text)
+        lines[name].setCursorPosition(0)
 
-    def clear(self):
-        self.volume_change.clear()
-        self.continuity.clear()
-        if self.deviation is not None:
-            self.deviation.clear()
+
+def length_text(value):
+    """A length in the user's unit, "no limit" for an infinite one."""
+    if math.isinf(value):
+        return "no limit"
+    return App.Units.Quantity(value, App.Units.Length).UserString
