@@ -3,10 +3,11 @@
 This module itself stays light (no Qt, no FreeCADGui) because InitGui.py reads icon
 paths from it while FreeCAD starts.
 
-Conventions that let a new feature plug in without touching this package's plumbing:
-- its icon is resources/icons/<TYPE>.svg (TYPE is the proxy's TYPE, e.g. "Stretch");
-- its task panel is class <TYPE>Panel in freecad_deform/gui/<type>_panel.py;
-- its command subclasses commands.CommandBase and is listed in commands.COMMANDS.
+A new feature plugs in through its entry in freecad_deform/registry.py (the checklist is
+that module's docstring): its icon is resources/icons/<TYPE>.svg (TYPE is the proxy's TYPE,
+e.g. "Stretch"), its task panel class <TYPE>Panel in gui/<type>_panel.py (built from
+task_panel.TaskPanelBase, bindings.py, widgets.py and coin_nodes.py), its command class
+<TYPE>Command(commands.CommandBase) in gui/commands.py.
 """
 import os
 

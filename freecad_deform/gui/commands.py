@@ -277,9 +277,6 @@ class DirectPushCommand(CommandBase):
         return obj
 
 
-TOOLBAR = [tool.command for tool in registry.TOOLBAR]
-
-
 def register():
     """Add every command of the registry to FreeCAD once (Initialize may run again after a
     reload)."""
