@@ -1,0 +1,153 @@
+"""The Stretch, Bend, Twist and Taper ops called directly, with no document: a Part shape, a
+Mesh or a Points in, (result, outputs) out, as the panels, the batch runner and the
+benchmarks call them. Oracles written here: A x d, Pappus, OCCT Volume/isValid, rotations
+and scalings of the input points computed in the test."""
+import ast
+import os
+import unittest
+
+from . import fc
+
+import FreeCAD as App  # noqa: E402
+import Mesh  # noqa: E402
+import numpy as np  # noqa: E402
+import Part  # noqa: E402
+import Points  # noqa: E402
+
+from freecad_deform.geometry.errors import DeformError  # noqa: E402
+from freecad_deform.geometry.sweep.motion import ScrewMotion, translation  # noqa: E402
+from freecad_deform.ops import bend, keyed, stretch, taper, twist  # noqa: E402
+
+V = App.Vector
+Z = np.array([0.0, 0.0, 1.0])
+AT_10 = np.array([0.0, 0.0, 10.0])
+SECTION = 10 * 20   # the box's cross-section across z
+
+
+def grid_cloud():
+    """Points on a 1 mm grid filling the box 10 x 20 x 30 (every z level on the grid)."""
+    x, y, z = np.meshgrid(np.arange(11.0), np.arange(21.0), np.arange(31.0), indexing="ij")
+    pts = np.c_[x.ravel(), y.ravel(), z.ravel()]
+    return Points.Points([V(*p) for p in pts]), pts
+
+
+def cloud_array(points):
+    return np.array([tuple(p) for p in points.Points])
+
+
+class PlaneOps(unittest.TestCase):
+    def setUp(self):
+        self.box = Part.makeBox(10, 20, 30)
+
+    def test_stretch_solid_adds_section_times_distance(self):
+        result, out = stretch.solid(self.box, AT_10, Z, 5.0)
+        self.assertTrue(result.isValid())
+        self.assertAlmostEqual(result.Volume - self.box.Volume, SECTION * 5.0, delta=1e-7)
+        self.assertAlmostEqual(out["VolumeChange"], SECTION * 5.0, delta=1e-7)
+        self.assertEqual(len(out["SplitFaces"]), 4)   # the four sides across the plane
+        self.assertAlmostEqual(result.BoundBox.ZMax, 35.0, delta=1e-9)
+        self.assertAlmostEqual(self.box.Volume, 6000.0, delta=1e-9)  # the input is untouched
+
+    def test_stretch_between_two_planes(self):
+        result, out = stretch.solid(self.box, AT_10, Z, 6.0, gap=10.0)
+        self.assertTrue(result.isValid())
+        self.assertAlmostEqual(result.Volume, 6000.0 + SECTION * 6.0, delta=1e-7)
+        self.assertEqual(out["MaxDeviation"], 0.0)
+
+    def test_stretch_mesh_and_cloud(self):
+        mesh = Mesh.Mesh(self.box.tessellate(1.0))
+        result, out = stretch.mesh(mesh, AT_10, Z, 5.0)
+        self.assertAlmostEqual(result.Volume, 6000.0 + SECTION * 5.0, delta=1e-3)
+        self.assertAlmostEqual(out["VolumeChange"], SECTION * 5.0, delta=1e-6)
+        cloud, pts = grid_cloud()
+        result, out = stretch.points(cloud, AT_10, Z, 5.0)
+        self.assertEqual(out, {"IgnoredPoints": 0})
+        moved = cloud_array(result)
+        far = pts[:, 2] > 10
+        np.testing.assert_allclose(moved[:len(pts)][far], pts[far] + 5 * Z, atol=1e-5)
+        self.assertAlmostEqual(moved[:, 2].max(), 35.0, delta=1e-5)
+
+    def test_a_plane_that_misses_names_plane(self):
+        with self.assertRaises(DeformError) as err:
+            stretch.solid(self.box, np.array([0.0, 0, 40]), Z, 5.0)
+        self.assertEqual(err.exception.prop, "Plane")
+        self.assertEqual(str(err.exception), "Plane misses the part: the whole part lies on "
+                         "one side of it; move Plane so it crosses the part.")
+        with self.assertRaises(DeformError) as err:
+            twist.solid(self.box, AT_10, Z, 25.0, np.radians(30))
+        self.assertEqual(err.exception.prop, "Plane2")
+
+    def test_bend_solid_pappus(self):
+        """About a line in Plane 15 mm from the section's centroid: the gap is the section
+        revolved, so the volume grows by A x angle x 15."""
+        angle = np.radians(60)
+        axis = (np.array([20.0, 0, 10]), np.array([0.0, 1, 0]))
+        result, out = bend.solid(self.box, AT_10, Z, angle, axis)
+        self.assertTrue(result.isValid())
+        self.assertAlmostEqual(out["VolumeChange"], SECTION * angle * 15.0, delta=1e-6)
+        self.assertAlmostEqual(result.Volume, 6000.0 + SECTION * angle * 15.0, delta=1e-6)
+
+    def test_twist_points_turn_by_their_fraction(self):
+        cloud, pts = grid_cloud()
+        angle = np.radians(90)
+        centre = np.array([5.0, 10.0, 0.0])
+        result, out = twist.points(cloud, AT_10, Z, 10.0, angle, (centre, Z))
+        moved = cloud_array(result)
+        frac = np.clip((pts[:, 2] - 10) / 10, 0, 1)
+        c, s = np.cos(frac * angle), np.sin(frac * angle)
+        d = pts - centre
+        expect = np.c_[centre[0] + c * d[:, 0] - s * d[:, 1],
+                       centre[1] + s * d[:, 0] + c * d[:, 1], pts[:, 2]]
+        np.testing.assert_allclose(moved, expect, atol=1e-5)
+        self.assertEqual(out, {"IgnoredPoints": 0})
+
+    def test_twist_default_axis_is_the_section_centroid(self):
+        result, out = twist.solid(self.box, AT_10, Z, 10.0, np.radians(90))
+        self.assertTrue(result.isValid())
+        self.assertAlmostEqual(result.Volume, 6000.0, delta=1e-3)
+        # the far part turned a quarter about (5, 10): its box is 20 x 10
+        far = result.common(Part.makeBox(100, 100, 5, V(-50, -50, 24))).BoundBox
+        self.assertAlmostEqual(far.XLength, 20.0, delta=1e-6)
+        self.assertAlmostEqual(far.YLength, 10.0, delta=1e-6)
+        self.assertAlmostEqual(far.Center.x, 5.0, delta=1e-6)
+
+    def test_taper_points_scale_across_the_axis(self):
+        cloud, pts = grid_cloud()
+        centre = np.array([5.0, 10.0, 10.0])
+        result, _ = taper.points(cloud, AT_10, Z, 10.0, 0.5, np.eye(3), centre)
+        moved = cloud_array(result)
+        scale = 1 - 0.5 * np.clip((pts[:, 2] - 10) / 10, 0, 1)
+        expect = np.c_[centre[:2] + (pts[:, :2] - centre[:2]) * scale[:, None], pts[:, 2]]
+        np.testing.assert_allclose(moved, expect, atol=1e-5)
+
+    def test_taper_solid_volume(self):
+        """Linear scale 1 -> 0.5 over 10 mm: the region keeps A x 10 x (1 - 1/2 + 1/12), the
+        far part A x 10 / 4; the default axis passes through the section's centroid."""
+        result, out = taper.solid(self.box, AT_10, Z, 10.0, 0.5, np.eye(3))
+        self.assertTrue(result.isValid())
+        expect = SECTION * 10 * (1 + (1 - 0.5 + 1 / 12) + 0.25)
+        self.assertAlmostEqual(result.Volume, expect, delta=1e-6 * expect)
+        self.assertAlmostEqual(result.BoundBox.Center.x, 5.0, delta=1e-6)
+
+    def test_keyed_translation_is_a_stretch(self):
+        result, out = keyed.solid(self.box, AT_10, Z, ScrewMotion(translation(5.0 * Z)), 4)
+        self.assertTrue(result.isValid())
+        self.assertAlmostEqual(out["VolumeChange"], SECTION * 5.0, delta=1e-6)
+
+
+class Layers(unittest.TestCase):
+    def test_ops_import_no_feature_and_no_gui(self):
+        """ops/ sits below features/ and gui/ (DESIGN.md): it imports neither."""
+        folder = os.path.join(fc.REPO, "freecad_deform", "ops")
+        for name in sorted(os.listdir(folder)):
+            if not name.endswith(".py"):
+                continue
+            with open(os.path.join(folder, name), encoding="utf-8") as f:
+                tree = ast.parse(f.read())
+            for node in ast.walk(tree):
+                if isinstance(node, ast.ImportFrom):
+                    module = node.module or ""
+                    self.assertFalse(module.split(".")[0] in ("features", "gui")
+                                     and node.level >= 2, f"{name} imports {module}")
+                    self.assertFalse(module.startswith(("freecad_deform.features",
+                                                        "freecad_deform.gui")), name)
