@@ -16,6 +16,7 @@ from PySide import QtCore, QtGui
 from ..geometry.mesh.regions import region_colours
 from ..ops import dimension_drive as op
 from ..geometry.errors import DeformError
+from ..geometry.sweep.defaults import across
 from .bindings import on_value_changed, quantity_spin_box, set_spin_value, spin_value
 from .task_panel import TaskPanelBase
 from .widgets import length_text, results_box
@@ -98,11 +99,8 @@ def default_frame(obj, point):
     label = model.region_at(tuple(point)) if model is not None else None
     if label is None or not model.planar[label]:
         return None
-    normal = App.Vector(*model.planes[label].normal)
-    axes = (App.Vector(1, 0, 0), App.Vector(0, 1, 0), App.Vector(0, 0, 1))
-    u = min(axes, key=lambda a: abs(a.dot(normal)))
-    u = u - normal * u.dot(normal)
-    return App.Vector(point), App.Vector(point) + u.normalize()
+    u = across(model.planes[label].normal)
+    return App.Vector(point), App.Vector(point) + App.Vector(*(float(c) for c in u))
 
 
 def swatch(rgb):
