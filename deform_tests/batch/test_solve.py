@@ -83,3 +83,22 @@ def test_maximize_at_a_bound(part_doc):
     lines = dict(line.split(" = ") for line in done.stdout.strip().splitlines())
     assert float(lines["Stretch.Distance"]) == 50.0
     assert abs(float(lines["maximum"]) - 365.0) < 1e-9
+
+
+def test_progress_lists_each_recompute(part_doc):
+    """progress(n, values, outputs) once per recompute (the GUI's list), n counting up to
+    the iterations reported; a value met before is not recomputed during the search (the
+    last recompute puts the document back at the solution)."""
+    doc = App.openDocument(part_doc["path"])
+    try:
+        seen = []
+        change = part_doc["A"] * 12.5
+        found = fd.solve(doc, vary={"Stretch.Distance": (0, 100)},
+                         target={"Stretch.VolumeChange": change},
+                         progress=lambda n, x, out: seen.append((n, x[0], out[0])))
+        assert [n for n, _, _ in seen] == list(range(1, found["iterations"] + 1))
+        assert len({x for _, x, _ in seen[:-1]}) == len(seen) - 1
+        assert abs(seen[-1][1] - found["Stretch.Distance"]) < 1e-9
+        assert abs(found["Stretch.Distance"] - 12.5) < 1e-8
+    finally:
+        App.closeDocument(doc.Name)

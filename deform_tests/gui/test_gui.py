@@ -156,6 +156,9 @@ def test_all_checks_pass(gui_run):
     "DirectPush: Cancel after a drag leaves the document unchanged",
     "DirectPush: edit, drag, Cancel restores the pushes",
     "DirectPush: a degenerated edge: no object, no panel",
+    "Solve registered, with its icon", "Solve: iterations and residual shown, each recompute listed",
+    "Solve: Distance = target / A (closed form A x d, 1e-9 mm)", "Solve: one undo step",
+    "Solve: undo restores Distance 10", "Solve: Cancel leaves the document unchanged",
 ])
 def test_key_check(gui_run, name):
     found = [c for c in gui_run["checks"] if c["name"] == name]

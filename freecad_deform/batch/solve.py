@@ -13,15 +13,23 @@ from . import model
 
 
 class _Model:
-    """The document as a function of the varied values; counts recomputes."""
+    """The document as a function of the varied values; counts recomputes. A value met
+    before is answered from memory (Brent asks for the bounds again); settle(x) leaves
+    the document recomputed at x."""
 
-    def __init__(self, doc, names, outputs):
+    def __init__(self, doc, names, outputs, progress=None):
         self.doc, self.names, self.outputs, self.calls = doc, names, outputs, 0
-        self.last = None
+        self.last, self.progress, self.seen = None, progress, {}
 
-    def __call__(self, x):
+    def settle(self, x):
+        return self(x, settle=True)
+
+    def __call__(self, x, settle=False):
         x = [float(v) for v in np.atleast_1d(x)]
-        if x != self.last:
+        if not settle and tuple(x) in self.seen:
+            return self.seen[tuple(x)]
+        fresh = x != self.last
+        if fresh:
             for name, value in zip(self.names, x):
                 model.set_value(self.doc, name, value)
             self.doc.recompute()
@@ -36,7 +44,10 @@ class _Model:
         if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
             raise model.BatchError(f"{', '.join(self.outputs)} must be a number to solve "
                                    f"for; pick a numeric output.")
-        return np.array(values, float)
+        if fresh and self.progress is not None:
+            self.progress(self.calls, x, values)
+        self.seen[tuple(x)] = np.array(values, float)
+        return self.seen[tuple(x)]
 
 
 def _bounds(vary):
@@ -49,26 +60,28 @@ def _bounds(vary):
     return names, lo, hi
 
 
-def solve(doc, vary, target=None, minimize=None, maximize=None, xtol=1e-12, max_calls=200):
+def solve(doc, vary, target=None, minimize=None, maximize=None, xtol=1e-12, max_calls=200,
+          progress=None):
     """Goal seek on a document. vary: {"Object.Property": (lo, hi)}; target:
     {"Object.Output": value} (an output may be any attribute path, such as
     "Stretch.Shape.BoundBox.XLength"), or minimize / maximize: "Object.Output".
     Returns {name: value, ..., "residual": r, "iterations": n}: r the largest |output -
-    target| ("minimum" or "maximum" instead: the output there), n the recomputes. The document is left recomputed at
-    the solution."""
+    target| ("minimum" or "maximum" instead: the output there), n the recomputes. The
+    document is left recomputed at the solution. progress(n, values, outputs), when given,
+    is called after each recompute (a GUI shows the iterations)."""
     names, lo, hi = _bounds(vary)
     goal = minimize or maximize
     if bool(target) == bool(goal) or (minimize and maximize):
         raise model.BatchError("give either targets or one output to minimise or maximise.")
     outputs = list(target) if target else [goal]
-    f = _Model(doc, names, outputs)
+    f = _Model(doc, names, outputs, progress)
     if target:
         want = np.array([float(target[p]) for p in outputs])
         x = _seek(lambda v: f(v) - want, lo, hi, xtol, max_calls)
     else:
         sign = 1.0 if minimize else -1.0
         x = _optimum(lambda v: sign * f(v)[0], lo, hi, xtol, max_calls)
-    value = f(x)
+    value = f.settle(x)
     found = {n: float(v) for n, v in zip(names, np.atleast_1d(x))}
     if target:
         found["residual"] = float(np.max(np.abs(value - want)))
@@ -78,8 +91,9 @@ def solve(doc, vary, target=None, minimize=None, maximize=None, xtol=1e-12, max_
 
 
 def _seek(g, lo, hi, xtol, max_calls):
-    if len(lo) == 1 and len(g(lo)) == 1:
-        a, b = g(lo)[0], g(hi)[0]
+    at_lo = g(lo) if len(lo) == 1 else None
+    if at_lo is not None and len(at_lo) == 1:
+        a, b = at_lo[0], g(hi)[0]
         if a == 0 or b == 0:
             return lo if a == 0 else hi
         if a * b < 0:
