@@ -154,3 +154,26 @@ def test_a_slide_along_the_plane_is_refused(bracket):
         assert [o.Name for o in doc.Objects] == ["Model"]
     finally:
         App.closeDocument(doc.Name)
+
+
+def test_end_placement_that_does_not_move_is_refused():
+    """A Stretch with UseEndPlacement and the identity EndPlacement: the far part would not
+    move; the object names EndPlacement, the Base is untouched."""
+    import freecad_deform as fd
+    doc = App.newDocument("EndPlacement")
+    try:
+        box = doc.addObject("Part::Feature", "Box")
+        box.Shape = Part.makeBox(100, 40, 20)
+        volume = box.Shape.Volume
+        obj = fd.make_stretch(box, (App.Vector(50, 0, 0), App.Vector(1, 0, 0)), 10)
+        obj.UseEndPlacement = True
+        doc.recompute()
+        assert "Invalid" in obj.State and "EndPlacement" in obj.getStatusString()
+        obj.EndPlacement = App.Placement(App.Vector(12, 0, 0), App.Rotation())
+        doc.recompute()
+        # a translation along the normal as the end: the key-frame sweep is A x d
+        assert "Invalid" not in obj.State
+        assert abs(obj.Shape.Volume - volume - 40 * 20 * 12) < 1e-6 * volume
+        assert box.Shape.Volume == volume
+    finally:
+        App.closeDocument(doc.Name)

@@ -89,6 +89,11 @@ def key_motion(obj, final):
     free_end = getattr(obj, "UseEndPlacement", False)
     if free_end:
         final = matrix_array(obj.EndPlacement)
+        if (np.abs(final[:3, :3] - np.eye(3)).max() <= 1e-12
+                and np.linalg.norm(final[:3, 3]) <= brep.TOL):
+            raise DeformError("EndPlacement leaves the far part where it is; give the far "
+                              "part's final placement, or clear UseEndPlacement.",
+                              "EndPlacement")
     if not (len(obj.KeyPlacements) or free_end):
         return None
     keys = [np.eye(4)] + [matrix_array(p) for p in obj.KeyPlacements] + [final]
