@@ -13,7 +13,7 @@ from PySide import QtGui
 from ..geometry.errors import DeformError
 from ..geometry.nurbs.area_constrain import parse_poles
 from ..shapes.bspline import bspline_of, face_of
-from .bindings import bound_quantity, on_value_changed, set_spin_value
+from .bindings import bound_quantity, combo_box, on_value_changed, set_spin_value
 from .coin_nodes import ControlNet
 from .compat import event_position
 from .task_panel import TaskPanelBase, is_invalid
@@ -63,10 +63,7 @@ class AreaConstrainPanel(TaskPanelBase):
         form = QtGui.QFormLayout()
         self.combos = {}
         for prop in ("Dof", "Method"):
-            combo = QtGui.QComboBox()
-            combo.setObjectName(prop)
-            combo.addItems(obj.getEnumerationsOfProperty(prop))
-            combo.setToolTip(obj.getDocumentationOfProperty(prop))
+            combo = combo_box(obj, prop)
             combo.currentIndexChanged.connect(
                 lambda index, p=prop: self.set_property(p, self.combos[p].itemText(index)))
             self.combos[prop] = combo

@@ -17,7 +17,7 @@ from ..geometry.mesh.regions import region_colours
 from ..ops import dimension_drive as op
 from ..geometry.errors import DeformError
 from ..geometry.sweep.defaults import across
-from .bindings import on_value_changed, quantity_spin_box, set_spin_value, spin_value
+from .bindings import combo_box, on_value_changed, quantity_spin_box, set_spin_value, spin_value
 from .task_panel import TaskPanelBase
 from .widgets import length_text, results_box
 
@@ -145,10 +145,7 @@ class DimensionDrivePanel(TaskPanelBase):
     def build(self, layout):
         obj = self.obj
         form = QtGui.QFormLayout()
-        self.kind = QtGui.QComboBox()
-        self.kind.setObjectName("Kind")
-        self.kind.addItems(obj.getEnumerationsOfProperty("Kind"))
-        self.kind.setToolTip(obj.getDocumentationOfProperty("Kind"))
+        self.kind = combo_box(obj, "Kind")
         self.kind.currentIndexChanged.connect(self.on_kind)
         form.addRow("Kind", self.kind)
         layout.addLayout(form)

@@ -28,6 +28,7 @@ from ..geometry.nurbs.push import Grab, point_at
 from ..ops.direct_push import INPUTS, replay
 from ..shapes import bspline
 from ..geometry.errors import DeformError
+from .bindings import int_spin_box
 from .coin_nodes import Preview
 from .compat import event_position, sb_values
 from .task_panel import TaskPanelBase, is_invalid
@@ -162,11 +163,8 @@ class DirectPushPanel(TaskPanelBase):
                     "keep where they grabbed the element.", self.on_remove_push, grid)
         layout.addWidget(box)
         form = QtGui.QFormLayout()
-        self.range = QtGui.QSpinBox()
-        self.range.setObjectName("Range")
-        self.range.setRange(0, 99)
+        self.range = int_spin_box(obj, "Range", 0, 99)
         self.range.setSpecialValueText("degree + 1")
-        self.range.setToolTip(obj.getDocumentationOfProperty("Range"))
         self.range.valueChanged.connect(self.on_range)
         form.addRow("Range", self.range)
         layout.addLayout(form)
