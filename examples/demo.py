@@ -20,9 +20,11 @@ Builds one document from ../shared/testdata (relative to the repo root):
   DimensionDrive  fandisk.obj: the distance between two parallel faces driven 4.8279 -> 4.65 mm
   AreaConstrain   splinecage.stp Face2 given 103 % of its area (least pole movement)
   DirectPush      a point of splinecage.stp Face2 pushed along its normal
+  Batch           the command line: a 3-variant sweep on 2 workers (A x d per row), a goal
+                  seek ((V - V0) / A) and reach landing the bracket's end hole by key frames
 
 `--quick` runs one section per feature (Stretch, Bend, Twist and the four above) and the
-reopen; report.md opens with the features table (feature, base, inputs, outputs, valid,
+reopen (no batch section); report.md opens with the features table (feature, base, inputs, outputs, valid,
 seconds, the oracle and its relative error), report.json holds it as "features".
 
 Writes demo.FCStd, one STEP per solid result, STL for the meshes, PLY for the clouds,
@@ -1174,7 +1176,86 @@ class Demo:
                          result.Faces, key=lambda f: (f.CenterOfMass - face.CenterOfMass).Length),
                          "after (Face2)")])
 
-    # -- 16. save, reopen, recompute: the same results
+    # -- 16. the command line: a sweep, a goal seek and reach
+    def batch(self):
+        import csv
+        rep, shape = self.rep, self.shape
+        folder = os.path.join(self.out, "batch")
+        os.makedirs(folder, exist_ok=True)
+        origin, d_solve = np.array([150.0, 0, 0]), 37.25
+        rep.section("Batch: sweep, goal seek, reach", "The command line (`python3 -m "
+                    "freecad_deform`) on documents the demo saves in batch/: part.FCStd (the "
+                    "sample part and a Stretch at x = 150) swept over Distance 10, 30, 50 on 2 "
+                    "workers, solved for the Distance that gives the volume V0 + A x 37.25, "
+                    "and the bracket fc_Schenkel.stp made to land its end hole (Face338) where "
+                    "a 30, 3, 2 mm slide with a 3 deg turn about Z takes it: neither a Stretch "
+                    "nor a Bend, so a key-frame sweep (Method KeyFrames).")
+        doc = App.newDocument("DemoBatch")
+        doc.addObject("Part::Feature", "Model").Shape = shape
+        fd.make_stretch(doc.Model, (V(*origin), V(*X)), 40)
+        part = os.path.join(folder, "part.FCStd")
+        doc.saveAs(part)
+        App.closeDocument(doc.Name)
+        area, v0 = section_area(shape, origin, X), shape.Volume
+        study = os.path.join(folder, "study")
+        done = command("sweep", part, "--grid", "Stretch.Distance=10:50:3", "--out", study,
+                       "--jobs", "2")
+        with open(os.path.join(study, "results.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        rep.fact("sweep", f"{len(rows)} variants in {done['seconds']:.1f} s (exit {done['code']})")
+        worst = max((abs(float(r["Stretch.VolumeChange"]) - area * float(r["Stretch.Distance"]))
+                     / (area * float(r["Stretch.Distance"])) for r in rows), default=np.inf)
+        rep.check("sweep: 3 valid variants, Distance 10, 30, 50",
+                  [(float(r["Stretch.Distance"]), r["valid"]) for r in rows],
+                  [(10.0, "True"), (30.0, "True"), (50.0, "True")])
+        rep.check("sweep: each row's Stretch.VolumeChange = A x Distance (largest rel. error)",
+                  worst, 0.0, ok=worst <= REL)
+        volume = v0 + area * d_solve
+        done = command("solve", part, "--vary", "Stretch.Distance=0:100", "--target",
+                       f"Stretch.Shape.Volume={volume!r}", "--out",
+                       os.path.join(folder, "solved.FCStd"))
+        name, _, value = done["last"].partition(" = ")
+        found = float(value) if name == "Stretch.Distance" else np.nan
+        rep.fact("solve", f"{done['last']} in {done['seconds']:.1f} s")
+        rep.check("solve: Distance = (V - V0) / A (A: Shape.slice section), mm", found,
+                  (volume - v0) / area, ok=abs(found - (volume - v0) / area) <= 1e-8)
+        bracket = Part.read(os.path.join(TESTDATA, "fc_Schenkel.stp"))
+        doc = App.newDocument("DemoReach")
+        doc.addObject("Part::Feature", "Model").Shape = bracket
+        path = os.path.join(folder, "bracket.FCStd")
+        doc.saveAs(path)
+        App.closeDocument(doc.Name)
+        turn = (np.array([140.0, 0, 0]), Z, 3.0)
+        shift = np.array([30.0, 3.0, 2.0])
+        q = rodrigues([140.0, 0, 0], *turn)[0] + shift
+        b = rodrigues(X, np.zeros(3), Z, 3.0)[0]
+        text = ",".join
+        done = command("reach", path, "--base", "Model", "--plane", "120,0,0:1,0,0",
+                       "--feature", "Face338", "--target",
+                       f"{text(map(repr, q))}:{text(map(repr, b))}", "--out",
+                       os.path.join(folder, "reached.FCStd"))
+        rep.fact("reach", f"{done['last']} in {done['seconds']:.1f} s")
+        rep.check("reach: the method used", done["last"], "Method = KeyFrames")
+        doc = App.openDocument(os.path.join(folder, "reached.FCStd"))
+        try:
+            result = doc.getObject("Stretch").Shape
+            rims = [rodrigues(p, *turn)[0] + shift for p in ([135.0, 0, 0], [145.0, 0, 0])]
+            off, tilt = hole_rims(result, 2.0, rims, b)
+            rep.check("reach: the hole's rim circles (Edge.Curve Center) at the slide and turn "
+                      "written out (Rodrigues), largest distance, mm", off, 0.0, ok=off <= 1e-9)
+            rep.check("reach: the rims' axes along the turned axis, rad", tilt, 0.0,
+                      ok=tilt <= 1e-9)
+            rep.check("reach: isValid(), one solid", [result.isValid(), len(result.Solids)],
+                      [True, 1])
+            self.picture("reach.png", "reach: the bracket's end hole made to land by a slide "
+                         "and a 3 deg turn (key frames)", [solid_panel(bracket, "before"),
+                                                           solid_panel(result, "after")],
+                         [(np.array([120.0, 0, 0]), X)], [(np.array([120.0, 0, 0]), X)],
+                         (35, -70))
+        finally:
+            App.closeDocument(doc.Name)
+
+    # -- 17. save, reopen, recompute: the same results
     def reopen(self):
         rep, doc = self.rep, self.doc
         rep.section("Document", "demo.FCStd saved, closed, reopened and recomputed.")
@@ -1233,7 +1314,8 @@ def features_table(demo):
 
 def run(out, quick=False):
     """The demo into `out`; quick: one section per feature (Stretch, Bend, Twist, Taper,
-    DimensionDrive, AreaConstrain, DirectPush) and the document reopened, no more."""
+    DimensionDrive, AreaConstrain, DirectPush) and the document reopened, no more (no
+    batch section)."""
     os.makedirs(out, exist_ok=True)
     t_start = time.perf_counter()
     demo = Demo(out)
@@ -1242,7 +1324,8 @@ def run(out, quick=False):
                  demo.assembly, demo.bend, demo.two_plane_bend, demo.twist, demo.mesh_bend,
                  demo.blade))
     for section in sections + (demo.taper, demo.dimension_drive, demo.area_constrain,
-                               demo.direct_push, demo.reopen):
+                               demo.direct_push) + (() if quick else (demo.batch,)) + (
+                                   demo.reopen,):
         demo.guarded(section)
     if demo.doc.Name in App.listDocuments():
         App.closeDocument(demo.doc.Name)
@@ -1268,6 +1351,42 @@ def run(out, quick=False):
     print(table)
     print(f"{rep.failed} of {checks} checks failed, {rep.warned} warned; output in {out}")
     return rep.failed + sum(not r["valid"] for r in rows)
+
+
+def command(*args):
+    """`python3 -m freecad_deform ARGS` in its own process: {"code", "last" (its last
+    line), "seconds"}."""
+    import subprocess
+    python = sys.executable if os.path.basename(sys.executable).startswith("python") \
+        else "/usr/bin/python3"   # under freecadcmd, sys.executable is FreeCAD itself
+    t = time.perf_counter()
+    done = subprocess.run([python, "-m", "freecad_deform", *map(str, args)], cwd=REPO,
+                          env=dict(os.environ, PYTHONPATH=REPO), capture_output=True,
+                          encoding="utf-8", errors="replace", timeout=900)
+    lines = done.stdout.strip().splitlines()
+    if done.returncode:
+        print(done.stdout[-2000:], done.stderr[-2000:], file=sys.stderr)
+    return {"code": done.returncode, "last": lines[-1] if lines else "",
+            "seconds": time.perf_counter() - t}
+
+
+def hole_rims(shape, radius, centres, axis):
+    """(largest distance from each expected centre to the nearest circle edge of `radius`
+    on a cylinder face within 1 mm, largest angle of those circles' axes to `axis`)."""
+    edges = {e.hashCode(): e for f in shape.Faces if f.Surface.TypeId == "Part::GeomCylinder"
+             for e in f.Edges}.values()
+    circles = [(np.array(tuple(e.Curve.Center)), np.array(tuple(e.Curve.Axis)))
+               for e in edges if e.Curve.TypeId == "Part::GeomCircle"
+               and abs(e.Curve.Radius - radius) < 1e-9]
+    off, tilt = 0.0, 0.0
+    for c in centres:
+        near = [(np.linalg.norm(p - c), a) for p, a in circles if np.linalg.norm(p - c) < 1.0]
+        if not near:
+            return np.inf, np.inf
+        off = max(off, max(d for d, _ in near))
+        tilt = max(tilt, max(float(np.arctan2(np.linalg.norm(np.cross(a, axis)), abs(a @ axis)))
+                             for _, a in near))
+    return off, tilt
 
 
 def surface_arrays(face):
