@@ -150,12 +150,12 @@ TOOLBAR = (
          "Achieved, AchievedArea, a bounding-box length) hit a target, or least or greatest; "
          "the value found is applied in one undo step.\n"
          "Needs a Deform object in the document; select one to preset its property and "
-         "output.", command_class=f"{PACKAGE}.gui.solve_panel.SolveCommand", api="solve"),
+         "output.", command_class=f"{PACKAGE}.gui.solve_panel.SolveCommand", api="solve",
+         scenarios=("solve",)),
 )
 
-# The macro API (freecad_deform.<name>, from api.py): every tool's function, then these.
-OTHER_API = ("solve",)
-API = tuple(dict.fromkeys([t.api for t in TOOLBAR if t.api] + list(OTHER_API)))
+# The macro API (freecad_deform.<name>, from api.py): every tool's function.
+API = tuple(dict.fromkeys(t.api for t in TOOLBAR if t.api))
 
 # The GUI test's parts (deform_tests/gui/scenario_<part>.py), in the order they run.
 SCENARIOS = tuple(dict.fromkeys(s for t in TOOLBAR for s in t.scenarios))

@@ -30,9 +30,8 @@ def part(name):
     return (lambda: function(harness)) if inspect.signature(function).parameters else function
 
 
-# The features' parts in the registry's order (stretch first: it activates the workbench).
+# The features' and tools' parts in the registry's order (stretch first: it activates the workbench).
 PARTS = {name: part(name) for name in registry.SCENARIOS}
-PARTS["solve"] = part("solve")  # goal seek: a tool on existing objects, not a feature
 
 
 def registry_agrees():

@@ -179,7 +179,7 @@ def test_screenshots_written(gui_run, capsys):
         "bend_task_panel.png", "bend_result.png", "twist_task_panel.png",
         "twist_result.png", "taper_task_panel.png", "taper_result.png", "twist_handles.png", "dimension_drive.png", "dimension_drive_task_panel.png",
         "area_constrain.png", "area_constrain_task_panel.png", "direct_push.png",
-        "direct_push_task_panel.png"]), names
+        "direct_push_task_panel.png", "solve_task_panel.png"]), names
     for path in shots:
         assert os.path.getsize(path) > 5000, path
         assert _drawn_fraction(path) > 0.02, f"{path} is (nearly) blank"
