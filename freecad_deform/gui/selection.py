@@ -300,16 +300,20 @@ def suggested_twist(base, picked_plane=None):
 
 
 def default_twist_axis(base, plane):
-    """The Plane normal through the centroid of the cross-section (Twist's own default when
-    UseAxis is false; for a mesh or a cloud the middle of its box): the start value of Axis
-    when the user turns UseAxis on."""
-    from ..ops.planes import section_centroid
+    """The Plane normal through the centroid of the cross-section, as Twist takes it when
+    UseAxis is false (ops.planes.section_centroid*, per kind of Base): the start value of
+    Axis when the user turns UseAxis on, so the result stays the same."""
+    from ..ops import planes as pp
     from ..shapes.brep import solids_of
     origin, normal = plane_arrays(plane)
-    centre = defaults.section_centre(*box(base), origin, normal)
-    if base_kind(base) == "Part":
-        try:
-            centre = section_centroid(solids_of(base.Shape), origin, normal)
-        except DeformError:  # Plane misses the part: the feature says so once it runs
-            pass
+    kind = base_kind(base)
+    try:
+        if kind == "Part":
+            centre = pp.section_centroid(solids_of(base.Shape), origin, normal)
+        elif kind == "Mesh":
+            centre = pp.section_centroid_mesh(base.Mesh, origin, normal)
+        else:
+            centre = pp.section_centroid_cloud(pp.cloud(base.Points)[0], origin, normal)
+    except DeformError:  # Plane misses the part (the feature says so): the box's middle
+        centre = defaults.section_centre(*box(base), origin, normal)
     return _axis((centre, normal))
