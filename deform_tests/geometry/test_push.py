@@ -142,8 +142,8 @@ def test_each_push_of_a_curve_replay_lands_on_its_target(moves):
 
 
 @settings(max_examples=20, deadline=None)
-@given(st.lists(st.tuples(st.floats(0.15, 0.85), st.floats(0.15, 0.85), st.floats(-6, 6)),
-                min_size=1, max_size=3))
+@given(st.lists(st.tuples(st.integers(15, 85), st.integers(15, 85), st.integers(-60, 60)).map(
+    lambda x: (x[0] / 100, x[1] / 100, x[2] / 10)), min_size=1, max_size=3))   # (u, v, height)
 def test_each_push_of_a_surface_replay_lands_and_the_border_stays(moves):
     state = push.surface_state(hill(), tol=1e-6)
     params = [(u, v) for u, v, _ in moves]
@@ -289,3 +289,33 @@ def test_poles_entries_are_one_based_and_bad_ones_name_poles():
         with pytest.raises(DeformError) as e:
             ac.parse_poles(entries, shape)
         assert e.value.prop == "Poles"
+
+
+# --- knot vectors (shapes.bspline builds Part curves and Coons sides from these) ------------
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.floats(0, 1), st.integers(1, 4)), min_size=1, max_size=8))
+def test_knots_and_mults_give_back_the_full_vector(entries):
+    distinct = sorted({round(k, 6) for k, _ in entries})
+    mults = [dict((round(k, 6), m) for k, m in entries)[k] for k in distinct]
+    knots, found = dp.knots_and_mults(np.repeat(distinct, mults))
+    assert knots == distinct and found == mults
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(0.0, 1.0), weights_9)
+def test_a_reversed_curve_runs_backwards(t, w):
+    c = wavy(weights=w)
+    np.testing.assert_allclose(curve_point(dp.reversed_curve(c), t), curve_point(c, 1 - t),
+                               atol=1e-10)
+
+
+def test_compatible_curves_share_knots_and_keep_their_shape():
+    a = wavy(9)
+    b = wavy(7, weights=np.linspace(1, 2, 7))
+    b = b._replace(poles=b.poles + [0, 30, 0])
+    x, y = dp.compatible(a, b)
+    np.testing.assert_allclose(x.knots, y.knots, atol=1e-12)
+    ts = np.linspace(0, 1, 53)
+    np.testing.assert_allclose(curve_point(x, ts), curve_point(a, ts), atol=1e-10)
+    np.testing.assert_allclose(curve_point(y, ts), curve_point(b, ts), atol=1e-10)

@@ -68,19 +68,8 @@ def curve_arrays(curve):
                  curve.Degree)
 
 
-def _knots_mults(full):
-    knots, mults = [], []
-    for k in np.asarray(full, float):
-        if knots and abs(k - knots[-1]) <= 1e-12:
-            mults[-1] += 1
-        else:
-            knots.append(float(k))
-            mults.append(1)
-    return knots, mults
-
-
 def curve_from_arrays(c):
-    knots, mults = _knots_mults(c.knots)
+    knots, mults = dp.knots_and_mults(c.knots)
     curve = Part.BSplineCurve()
     curve.buildFromPolesMultsKnots([App.Vector(*p) for p in c.poles.tolist()], mults, knots,
                                    False, c.degree, [float(w) for w in c.weights])
@@ -88,8 +77,8 @@ def curve_from_arrays(c):
 
 
 def surface_from_arrays(s):
-    uk, um = _knots_mults(s.uknots)
-    vk, vm = _knots_mults(s.vknots)
+    uk, um = dp.knots_and_mults(s.uknots)
+    vk, vm = dp.knots_and_mults(s.vknots)
     surface = Part.BSplineSurface()
     surface.buildFromPolesMultsKnots([[App.Vector(*p) for p in row] for row in s.poles.tolist()],
                                      um, vm, uk, vk, False, False, s.udegree, s.vdegree,
@@ -353,20 +342,13 @@ def _on_unit_interval(curve, degree):
     return c._replace(knots=(c.knots - c.knots[0]) / (c.knots[-1] - c.knots[0]))
 
 
-def _reversed(c):
-    return c._replace(poles=c.poles[::-1], weights=c.weights[::-1], knots=1 - c.knots[::-1])
-
-
 def _pair(a, b, reverse_a, reverse_b):
     """Two opposite sides, reversed as asked, with the same degree and knots (each
     other's inserted)."""
     degree = max(a.Degree, b.Degree)
     x, y = _on_unit_interval(a, degree), _on_unit_interval(b, degree)
-    x, y = (_reversed(x) if reverse_a else x), (_reversed(y) if reverse_b else y)
-    for k in np.unique(np.concatenate([x.knots, y.knots])):
-        times = max(dp.multiplicity(x.knots, k), dp.multiplicity(y.knots, k))
-        x, y = dp.curve_with_knot(x, k, times), dp.curve_with_knot(y, k, times)
-    return x, y
+    x, y = (dp.reversed_curve(x) if reverse_a else x), (dp.reversed_curve(y) if reverse_b else y)
+    return dp.compatible(x, y)
 
 
 def coons_of(face, prop="Element"):

@@ -148,6 +148,32 @@ def curve_with_knot(c, t, times):
     return Curve(P, w, U, c.degree)
 
 
+def knots_and_mults(full, tol=1e-12):
+    """(distinct knots, multiplicities) of a full knot vector, knots closer than tol one."""
+    knots, mults = [], []
+    for k in np.asarray(full, float):
+        if knots and abs(k - knots[-1]) <= tol:
+            mults[-1] += 1
+        else:
+            knots.append(float(k))
+            mults.append(1)
+    return knots, mults
+
+
+def reversed_curve(c):
+    """The Curve c run backwards, on a [0, 1] knot vector: reversed(t) = c(1 - t)."""
+    return c._replace(poles=c.poles[::-1], weights=c.weights[::-1], knots=1 - c.knots[::-1])
+
+
+def compatible(a, b):
+    """Two Curves of the same degree on [0, 1] with each other's knots inserted: the same
+    knot vector, so their poles pair up (opposite sides of a Coons patch)."""
+    for k in np.unique(np.concatenate([a.knots, b.knots])):
+        times = max(multiplicity(a.knots, k), multiplicity(b.knots, k))
+        a, b = curve_with_knot(a, k, times), curve_with_knot(b, k, times)
+    return a, b
+
+
 # --- least-norm solve -------------------------------------------------------------------------
 
 def least_norm(n, movable, rows, rhs, groups=(), tol=1e-9):
