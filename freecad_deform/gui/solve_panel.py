@@ -196,9 +196,6 @@ class SolvePanel:
         if Gui.ActiveDocument is not None:
             Gui.ActiveDocument.ActiveView.fitAll()
 
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
-
     def accept(self):
         """One undo step from the old value to the one found (the last Solve)."""
         if self.transaction is not None:
