@@ -12,7 +12,9 @@ from . import fc
 
 import FreeCAD as App  # noqa: E402
 import numpy as np  # noqa: E402
+import Mesh  # noqa: E402
 import Part  # noqa: E402
+import Points  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 
@@ -335,6 +337,53 @@ class ReliabilityTest(unittest.TestCase):
             self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
             for solid in t.Shape.Solids:
                 solid.check(True)  # raises with the BOP check's findings
+
+    def test_plane_touching_a_void_at_its_seam(self):
+        """Plane x = 5 touches a spherical void (radius 5) at a point of its seam: merging
+        the faces across the joint left the void's face unorientable (isValid() false,
+        Up-to-date). Oracle: isValid() and the closed form 40*20*20 - 4/3 pi 5^3 + A*d."""
+        part = self.doc.addObject("Part::Feature", "Voided")
+        part.Shape = Part.makeBox(40, 20, 20, V(-20, -10, -10)).cut(Part.makeSphere(5))
+        for d in (1.0, -6.103515625e-05):
+            s = fd.make_stretch(part, (V(5, 0, 0), V(1, 0, 0)), d)
+            self.assertEqual(s.State, ["Up-to-date"], s.getStatusString())
+            self.assertTrue(s.Shape.isValid())
+            self.assertAlmostEqual(s.Shape.Volume, 16000 - 4 / 3 * np.pi * 125 + 400 * d,
+                                   delta=1e-6)
+
+    def test_cloud_stretch_beyond_any_memory_is_refused(self):
+        """A point cloud stretched by 1e12 mm would fill the gap with 1e12 points (a 1.46
+        TiB array: MemoryError); it is refused naming Distance, and fast."""
+        cloud = self.doc.addObject("Points::Feature", "Cloud")
+        cloud.Points = Points.Points([(x, y, 0.0) for x in range(-20, 21, 5)
+                                      for y in range(-10, 11, 5)])
+        s = fd.make_stretch(cloud, (V(0.5, 0, 0), V(1, 0, 0)), 1e12)
+        self.assertIn("keep Distance below", self.assert_refused(s, "Distance"))
+
+    def test_bend_by_nothing_of_a_reversed_solid(self):
+        """A reversed box bent by 0 deg came back reversed (volume -8000): the result is
+        the oriented solid. Oracle: OCCT's Volume of the box, 40 * 20 * 10."""
+        flipped = self.doc.addObject("Part::Feature", "Flipped")
+        flipped.Shape = self.box.Shape.reversed()
+        self.assertLess(flipped.Shape.Volume, 0)
+        b = fd.make_bend(flipped, (V(20, 0, 0), V(1, 0, 0)), 0.0, (V(20, 0, 40), V(0, 1, 0)))
+        self.assertEqual(b.State, ["Up-to-date"], b.getStatusString())
+        self.assertAlmostEqual(b.Shape.Volume, 8000.0, delta=1e-6)
+
+    def test_drive_of_a_solid_tessellated_too_finely_is_refused(self):
+        """DimensionDrive on a solid tessellates it with Tolerance; at 1e-9 mm OCCT's mesher
+        throws a C++ exception that no Python code can catch (the process then runs on
+        corrupted). Tolerance below 1e-4 of the solid's size is refused naming it."""
+        ring = self.doc.addObject("Part::Feature", "Ring")
+        ring.Shape = Part.makeTorus(15, 4)
+        mesh = self.doc.addObject("Mesh::Feature", "BoxMesh")
+        mesh.Mesh = Mesh.Mesh(self.box.Shape.tessellate(0.1))
+        drive = fd.make_dimension_drive(mesh, "Distance", [V(20, 10, 10), V(20, 10, 0)], 12)
+        self.assertEqual(drive.State, ["Up-to-date"], drive.getStatusString())
+        drive.Tolerance = 1e-12
+        drive.Base = ring
+        self.doc.recompute()
+        self.assertIn("raise Tolerance", self.assert_refused(drive, "Tolerance"))
 
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):

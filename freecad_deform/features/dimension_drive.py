@@ -22,6 +22,11 @@ from .base import DeformFeature, Prop
 DEFAULT_FEATURE_ANGLE = op.DEFAULT_FEATURE_ANGLE
 
 
+# the finest Tolerance, of the solid's diagonal (and 1e-6 mm at least): a torus 54 mm across
+# is 172 k triangles at 0.001 mm, and OCCT's mesher throws (uncatchably) at 1e-9 mm
+FINEST_TESSELLATION = 1e-4
+
+
 class DimensionDrive(DeformFeature):
     TYPE = "DimensionDrive"
     RESULT = "Mesh::FeaturePython"
@@ -83,8 +88,13 @@ class DimensionDrive(DeformFeature):
         if base.isDerivedFrom("Mesh::Feature"):
             return (*mesh_arrays(base.Mesh), base.Mesh)
         if hasattr(base, "Shape") and not base.Shape.isNull():
-            if obj.Tolerance.Value <= 0:
-                raise DeformError("Tolerance must be positive.", "Tolerance")
+            finest = max(FINEST_TESSELLATION * base.Shape.BoundBox.DiagonalLength, 1e-6)
+            if not obj.Tolerance.Value >= finest:
+                raise DeformError(
+                    f"Tolerance {obj.Tolerance.Value:.3g} mm is finer than "
+                    f"{FINEST_TESSELLATION:g} of {base.Label}'s size: tessellating it takes "
+                    f"minutes and millions of triangles (OCCT fails at 1e-9 mm); "
+                    f"raise Tolerance to {finest:.3g} mm or more.", "Tolerance")
             return tessellated(base.Shape, obj.Tolerance.Value)
         raise DeformError(f"Base {base.Label} is not a mesh or a solid; link one.", "Base")
 

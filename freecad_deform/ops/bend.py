@@ -71,7 +71,8 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
     bb = shape.BoundBox
     reach = bb.DiagonalLength + np.linalg.norm(np.array(tuple(bb.Center)) - axis_point)
     if abs(angle) * reach <= brep.TOL:  # no point moves more than the modelling tolerance
-        return shape.copy()
+        return pp.deform_shape(shape, origin, normal, gap, lambda solid: solid,
+                               lambda parts: [p.copy() for p in parts])  # solids oriented
     turn = mo.rotation(axis_point, axis_direction, angle)
     far_motion = turn if gap is None else turn @ mo.translation(-gap * normal)
     far_joint = (mo.apply(turn, origin[None])[0], turn[:3, :3] @ normal)

@@ -36,4 +36,5 @@ def points(base, origin, normal, motion):
     spacing."""
     from ..shapes.convert import points_from_array
     pts, ignored = pp.cloud(base)
-    return points_from_array(points_sweep.sweep_points(pts, origin, normal, motion)), ignored
+    return points_from_array(points_sweep.sweep_points(pts, origin, normal, motion,
+                                                       prop="KeyPlacements")), ignored

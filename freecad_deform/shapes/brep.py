@@ -408,8 +408,10 @@ def _merged(fused, on_surface):
     return None, "the faces at a joint fail OCCT's check"
 
 
-def _valid_at_joints(shape, on_surface, many_wires=8):
-    """OCCT's check of what the edit made: a closed shell, and the faces that meet a joint.
+def _valid_at_joints(shape, on_surface, many_wires=8, small_shell=64):
+    """OCCT's check of what the edit made: closed shells, the faces that meet a joint, and
+    every small shell whole (a void's: merging the faces across the joint took away the
+    vertex where Plane touched a sphere's seam, and left that face unorientable).
 
     The rest of the solid is the Base's own, unchanged. On a face with many holes only
     the wires that meet a joint are checked: BRepCheck of the whole face grows with the
@@ -427,7 +429,9 @@ def _valid_at_joints(shape, on_surface, many_wires=8):
             ok = all(w.isValid() for w in face.Wires if meets(w))
         if not ok:
             return False
-    return all(sh.isClosed() for s in shape.Solids for sh in s.Shells)
+    shells = [sh for s in shape.Solids for sh in s.Shells]
+    return all(sh.isClosed() for sh in shells) and all(
+        sh.isValid() for sh in shells if len(sh.Faces) <= small_shell)
 
 
 def transformed(shapes, matrix):

@@ -54,6 +54,9 @@ def section_band(s, step):
     return dist <= dist.min() + step / 2
 
 
+MAX_FILL = 20_000_000  # points a gap's fill may add: about 0.5 GB of coordinates
+
+
 def stretch_points(points, origin, normal, distance, origin2=None, normal2=None, step=None):
     """Stretch a cloud by `distance` along `normal` (see the mesh kernel for the cases).
 
@@ -91,7 +94,14 @@ def stretch_points(points, origin, normal, distance, origin2=None, normal2=None,
     step = step or spacing(pts)
     band = section_band(s, step)
     section = pts[band] - s[band, None] * n
-    layers = max(int(np.ceil(distance / step)), 1)
+    layers = distance / step
+    if (layers - 1) * len(section) > MAX_FILL:
+        most = (MAX_FILL / max(len(section), 1) + 1) * step
+        raise DeformError(f"Distance {distance:g} would fill the gap with "
+                          f"{(layers - 1) * len(section):.3g} points at the cloud's spacing "
+                          f"{step:.3g} (at most {MAX_FILL:.3g}); keep Distance below "
+                          f"{most:.6g}.", "Distance")
+    layers = max(int(np.ceil(layers)), 1)
     offsets = np.arange(1, layers) * (distance / layers)
     fill = (section[None, :, :] + offsets[:, None, None] * n).reshape(-1, 3)
     return np.vstack([out, fill])

@@ -8,12 +8,12 @@ import numpy as np
 from ..errors import DeformError
 from ..sweep.motion import apply, apply_each, fraction_matrices
 from ..sweep.planes import TOUCH, check_crossing, signed_distance, unit_normal
-from .stretch import EVERY_POINT, section_band, spacing
+from .stretch import EVERY_POINT, MAX_FILL, section_band, spacing
 
 _PATH_SAMPLES = 2049   # samples of the centroid's trajectory to measure its length
 
 
-def sweep_points(points, origin, normal, motion, step=None):
+def sweep_points(points, origin, normal, motion, step=None, prop="Angle"):
     """Case 1 on a cloud: returns the moved points (input order) followed by the fill.
 
     Points with s <= 0 are returned bit-identical, points with s > 0 moved by
@@ -23,7 +23,8 @@ def sweep_points(points, origin, normal, motion, step=None):
     section's centroid are `step` apart along its trajectory (measured on 2049 samples);
     step defaults to the cloud's spacing (points_stretch.spacing). For a translation along
     the normal this is stretch_points' fill. A motion that leaves the centroid in place
-    (a turn about an axis through it) adds no fill.
+    (a turn about an axis through it) adds no fill. A fill beyond MAX_FILL points is
+    refused naming `prop`, the property that sets the motion.
     """
     pts = np.asarray(points, float).reshape(-1, 3)
     n = unit_normal(normal)
@@ -46,6 +47,10 @@ def sweep_points(points, origin, normal, motion, step=None):
     layers = max(int(np.ceil(length[-1] / step - 1e-9)), 1)
     if layers == 1:
         return out
+    if (layers - 1) * len(section) > MAX_FILL:
+        raise DeformError(f"The gap's fill would add {(layers - 1) * len(section):.3g} points "
+                          f"at the cloud's spacing {step:.3g} along a {length[-1]:.6g} mm path "
+                          f"(at most {MAX_FILL:.3g}); shorten the motion ({prop}).", prop)
     ts = np.interp(np.arange(1, layers) * (length[-1] / layers), length, dense)
     fill = apply(np.asarray(motion.matrices(ts)), section).reshape(-1, 3)
     return np.vstack([out, fill])
