@@ -35,6 +35,8 @@ import numpy as np  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features import base as fbase  # noqa: E402
 from freecad_deform.geometry.errors import DeformError  # noqa: E402
+from deform_tests.oracles.shapes import (closed_mesh, section_area_centroid, solid_volume,  # noqa: E402
+                                         surface_area, volume_noise)
 
 V = App.Vector
 SEVERITY = ("runner_error", "leftover", "base_changed", "broken_save", "silent_wrong",
@@ -264,72 +266,6 @@ def measure(obj):
     return (r.CountPoints, round(float(np.abs(np.array([tuple(getattr(q, "Vector", q))
                                                         for q in r.Points])).sum()), 6)
             if r.CountPoints else 0)
-
-
-# ---------------------------------------------------------------- oracles
-
-def section_area_centroid(shape, origin, normal):
-    """Area and centroid of the solids' section at the plane: Shape.slice + a face maker."""
-    n = vec(normal).normalize()
-    area, moment = 0.0, np.zeros(3)
-    for solid in shape.Solids:
-        wires = solid.slice(n, n.dot(vec(origin)))
-        if not wires:
-            continue
-        for face in Part.makeFace(wires, "Part::FaceMakerBullseye").Faces:
-            area += face.Area
-            moment += np.array(tuple(face.CenterOfMass)) * face.Area
-    return area, (moment / area if area else None)
-
-
-def half_spaces(shape, origin, normal):
-    """Two prisms that cover `shape` on either side of the plane."""
-    n = np.asarray(normal, float) / np.linalg.norm(normal)
-    size = 4 * shape.BoundBox.DiagonalLength + 4 * np.linalg.norm(origin)
-    u = np.cross(n, [0, 0, 1] if abs(n[2]) < 0.9 else [1, 0, 0])
-    u /= np.linalg.norm(u)
-    w = np.cross(n, u)
-    c = [np.asarray(origin) + size * (a * u + b * w)
-         for a, b in ((1, 1), (-1, 1), (-1, -1), (1, -1), (1, 1))]
-    face = Part.Face(Part.makePolygon([V(*p) for p in c]))
-    return [face.extrude(V(*(sign * size * n))) for sign in (-1, 1)]
-
-
-def volume_noise(shape, origin, normal):
-    """OCCT's volume precision on `shape` here: |the two halves' volumes - the whole|."""
-    halves = sum(shape.common(h).Volume for h in half_spaces(shape, origin, normal))
-    return abs(halves - solid_volume(shape))
-
-
-def surface_area(face, nodes=10):
-    """Area of a natural (untrimmed) face: Gauss-Legendre on each knot span of its surface,
-    |S_u x S_v| from OCCT's derivatives (OCCT's Face.Area is off by 5e-3 on a converted
-    torus)."""
-    surface = face.Surface
-    u0, u1, v0, v1 = face.ParameterRange
-    knots = (getattr(surface, "getUKnots", lambda: [])(), getattr(surface, "getVKnots",
-                                                                   lambda: [])())
-    us = sorted({u0, u1, *[k for k in knots[0] if u0 < k < u1]})
-    vs = sorted({v0, v1, *[k for k in knots[1] if v0 < k < v1]})
-    x, w = np.polynomial.legendre.leggauss(nodes)
-    total = 0.0
-    for ua, ub in zip(us, us[1:]):
-        for va, vb in zip(vs, vs[1:]):
-            for xi, wi in zip(x, w):
-                u = (ua + ub) / 2 + xi * (ub - ua) / 2
-                for xj, wj in zip(x, w):
-                    v = (va + vb) / 2 + xj * (vb - va) / 2
-                    n = surface.getDN(u, v, 1, 0).cross(surface.getDN(u, v, 0, 1))
-                    total += wi * wj * n.Length * (ub - ua) * (vb - va) / 4
-    return total
-
-
-def solid_volume(shape):
-    return sum(abs(s.Volume) for s in shape.Solids)
-
-
-def closed_mesh(mesh):
-    return mesh.CountFacets > 0 and mesh.isSolid() and not mesh.hasNonManifolds()
 
 
 def outputs_finite(obj):
