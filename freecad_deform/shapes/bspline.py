@@ -43,9 +43,9 @@ def curve_of(edge, prop="Element"):
     if edge.Degenerated:  # a point where a surface collapses: Edge.Curve raises TypeError
         raise DeformError(f"{prop} is a degenerated edge (a point where its face's surface "
                           "collapses); pick another edge.", prop)
-    kind = edge.Curve.TypeId.split("::Geom")[-1]
+    geom_type = edge.Curve.TypeId.split("::Geom")[-1]
     first, last = edge.FirstParameter, edge.LastParameter
-    if kind == "BSplineCurve":
+    if geom_type == "BSplineCurve":
         curve, note = edge.Curve.copy(), "B-spline"
         a, b = curve.FirstParameter, curve.LastParameter
         if abs(a - first) > 1e-12 or abs(b - last) > 1e-12:
@@ -53,9 +53,10 @@ def curve_of(edge, prop="Element"):
             note += ", cut to the edge"
     else:
         curve = edge.Curve.toBSpline(first, last)
-        note = (f"{kind} converted exactly" if kind in ("Line", "LineSegment", "Circle",
-                                                        "Ellipse", "BezierCurve", "ArcOfCircle")
-                else f"{kind} approximated (not exact)")
+        exact = geom_type in ("Line", "LineSegment", "Circle", "Ellipse", "BezierCurve",
+                              "ArcOfCircle")
+        note = f"{geom_type} converted exactly" if exact else \
+            f"{geom_type} approximated (not exact)"
     if curve.isPeriodic():
         curve.setNotPeriodic()
     return curve, note
@@ -101,17 +102,17 @@ def quad_corners(face):
     return corners
 
 
-def _note(kind):
-    return "B-spline" if kind == "BSplineSurface" else (
-        f"{kind} converted exactly" if kind in EXACT else
-        f"{kind} approximated by NurbsConvert (not exact)")
+def _note(geom_type):
+    return "B-spline" if geom_type == "BSplineSurface" else (
+        f"{geom_type} converted exactly" if geom_type in EXACT else
+        f"{geom_type} approximated by NurbsConvert (not exact)")
 
 
 def _surface_of(face):
     """(BSplineSurface over the face's parameter range, note on the conversion)."""
-    kind = face.Surface.TypeId.split("::Geom")[-1]
-    note = _note(kind)
-    surface = face.Surface.copy() if kind == "BSplineSurface" else \
+    geom_type = face.Surface.TypeId.split("::Geom")[-1]
+    note = _note(geom_type)
+    surface = face.Surface.copy() if geom_type == "BSplineSurface" else \
         face.toNurbs().Faces[0].Surface
     u0, u1, v0, v1 = face.ParameterRange
     for periodic, fix in ((surface.isUPeriodic, surface.setUNotPeriodic),
@@ -160,8 +161,8 @@ def smoothed(face):
     form has no C0 knot (only rational circles have: there a push would crease it, and
     OCCT's BOP check calls the result self-intersecting) or the fit is not within 1e-9 of
     the face's size."""
-    kind = face.Surface.TypeId.split("::Geom")[-1]
-    if kind in ("BSplineSurface", "BezierSurface"):
+    geom_type = face.Surface.TypeId.split("::Geom")[-1]
+    if geom_type in ("BSplineSurface", "BezierSurface"):
         return None
     exact = face.toNurbs().Faces[0].Surface
     if not any(m >= degree for mults, degree in ((exact.getUMultiplicities(), exact.UDegree),
@@ -179,7 +180,7 @@ def smoothed(face):
     err = max((fit.value(u, v) - face.Surface.value(u, v)).Length for u in U for v in V)
     if err > 10 * tol:
         return None
-    return fit, (f"{kind} approximated by a C2 B-spline to {err:.1g} mm (its exact form "
+    return fit, (f"{geom_type} approximated by a C2 B-spline to {err:.1g} mm (its exact form "
                  "is C0 at knots, where a push would crease it)")
 
 
@@ -250,9 +251,9 @@ def replaced(shape, index, face):
 def replaced_all(shape, faces_by_index):
     """replaced() for several faces at once: {index: new face}."""
     if len(shape.Solids) == 1:
-        kind = "Solid"
+        shape_type = "Solid"
     elif len(shape.Shells) == 1 and not shape.Solids:
-        kind = "Shell"
+        shape_type = "Shell"
     else:
         return None
     # a copy: sewing may take over (and retune) the Base's own edges
@@ -266,10 +267,10 @@ def replaced_all(shape, faces_by_index):
             ordered = in_order(sewn, faces)
             if any(not a.isSame(b) for a, b in zip(ordered, sewn)):
                 shell = Part.Shell(ordered)
-        result = Part.Solid(shell) if kind == "Solid" else shell
+        result = Part.Solid(shell) if shape_type == "Solid" else shell
     except Part.OCCError:  # the faces do not close up again (e.g. a seam that moved)
         return None
-    if kind == "Solid":
+    if shape_type == "Solid":
         box = result.BoundBox
         far = App.Vector(box.XMax, box.YMax, box.ZMax) + App.Vector(1, 1, 1) * box.DiagonalLength
         if result.isInside(far, 1e-9, True):   # inside out: a negative volume
@@ -384,19 +385,19 @@ def trimmed_surface(face, prop="Element"):
     """(BSplineSurface, face, note) of a trimmed face: its surface as a B-spline in the
     face's own parametrisation (cut to the parameter range, not periodic), and the face
     (its NURBS form when it was converted) whose pcurves lie on that surface."""
-    kind = face.Surface.TypeId.split("::Geom")[-1]
-    if kind != "BSplineSurface":
+    geom_type = face.Surface.TypeId.split("::Geom")[-1]
+    if geom_type != "BSplineSurface":
         try:
             face = face.toNurbs().Faces[0]
         except Part.OCCError:
-            raise DeformError(f"{prop}: its {kind} surface has no B-spline form here; "
+            raise DeformError(f"{prop}: its {geom_type} surface has no B-spline form here; "
                               "pick another face.", prop)
     try:
         surface, _ = _surface_of(face)
     except Part.OCCError:
         raise DeformError(f"{prop}: OCCT cannot cut its surface to the face's parameter "
                           "range; pick another face.", prop)
-    return surface, face, _note(kind) + ", trimmed: rebuilt on its boundary's pcurves"
+    return surface, face, _note(geom_type) + ", trimmed: rebuilt on its boundary's pcurves"
 
 
 def _pcurve(face, edge, prop):
