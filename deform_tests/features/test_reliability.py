@@ -385,6 +385,16 @@ class ReliabilityTest(unittest.TestCase):
         self.doc.recompute()
         self.assertIn("raise Tolerance", self.assert_refused(drive, "Tolerance"))
 
+    def test_area_beyond_a_valid_face_is_refused(self):
+        """A sphere's face asked for 1e12 times its area (Dof Z) reached it with poles
+        3e13 mm away and a face that fails isValid(), yet Up-to-date. Oracle: OCCT's
+        isValid() of the face the op builds; refused naming TargetRatio."""
+        ball = self.doc.addObject("Part::Feature", "Ball")
+        ball.Shape = Part.makeSphere(15)
+        a = fd.make_area_constrain(ball, "Face1", "1e14%", dof="Z")
+        self.assertIn("nearer the original", self.assert_refused(a, "TargetRatio"))
+        self.assertTrue(ball.Shape.isValid())
+
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
             self.doc.UndoMode = undo_mode

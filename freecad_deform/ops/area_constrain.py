@@ -46,4 +46,10 @@ def face(shape, face, target_area=0.0, target_ratio=0.0, poles=(), dof="Normal",
                "Iterations": solution.iterations, "MaxPoleMove": float(moves.max()),
                "KKTResidual": solution.kkt, "Conversion": note,
                "Replaced": result is not None}
-    return (result if result is not None else new_face), outputs
+    shape_out = result if result is not None else new_face
+    if not shape_out.isValid():
+        prop = "TargetRatio" if target_ratio else "TargetArea"
+        raise DeformError(f"The face at {solution.area:.6g} mm^2 fails OCCT's check (its poles "
+                          f"moved up to {outputs['MaxPoleMove']:.3g} mm, folding it); ask for "
+                          f"an area nearer the original {original:.6g} mm^2 with {prop}.", prop)
+    return shape_out, outputs
