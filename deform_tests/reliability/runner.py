@@ -499,21 +499,25 @@ def run(case):
     _check_bases(bases, problem)
     features = [o for o in doc.Objects if is_feature(o)]
     for o in features:
-        state = list(o.State)
-        entry = {"name": o.Name, "state": state, "message": o.getStatusString()[:200]}
-        out["objects"].append(entry)
-        if "Invalid" in state or "Error" in state:
-            why = refusal_problem(o, case)
-            entry["refused"] = True
-            if why:
-                problem(("bad_refusal", f"{o.Name}: {why}"))
-        elif o.Base is None or "Touched" in state:
-            continue
-        else:
-            for p in oracle(o, case):
-                problem(("silent_wrong", f"{o.Name}: {p}"))
+        out["objects"].append(judge(o, case, problem))
     refused = any(e.get("refused") for e in out["objects"])
     return out, "refused" if refused else "accepted"
+
+
+def judge(o, case, problem):
+    """The entry of feature `o` as it stands: a refusal must name its property, an
+    Up-to-date result must pass the oracle."""
+    state = list(o.State)
+    entry = {"name": o.Name, "state": state, "message": o.getStatusString()[:200]}
+    if "Invalid" in state or "Error" in state:
+        why = refusal_problem(o, case)
+        entry["refused"] = True
+        if why:
+            problem(("bad_refusal", f"{o.Name}: {why}"))
+    elif o.Base is not None and "Touched" not in state:
+        for p in oracle(o, case):
+            problem(("silent_wrong", f"{o.Name}: {p}"))
+    return entry
 
 
 def same(a, b, rel):
@@ -553,7 +557,7 @@ def _step(doc, obj, step, case, bases, names, problem):
             held = getattr(obj, name)
             held = getattr(held, "Value", held)
             # FreeCAD's PropertyLength holds no negative value (0 instead), PropertyAngle
-            # nothing beyond +-360 deg (whole turns go to Twist's Turns): not ours
+            # (Bend's Angle) nothing beyond +-360 deg: not ours
             kind_of = obj.getTypeIdOfProperty(name)
             clamped = ("Length" in kind_of and held == 0 and value < 0) or (
                 "Angle" in kind_of and abs(held) == 360.0 and abs(value) > 360.0)
@@ -561,6 +565,7 @@ def _step(doc, obj, step, case, bases, names, problem):
                     math.isfinite(value) and held != value and not clamped:
                 problem(("silent_wrong", f"{name} set to {value!r} holds {held!r}"))
         doc.recompute()
+        judge(obj, case, problem)  # what each step leaves must hold too, not only the last
     elif kind == "self_link":
         before = measure(obj)
         obj.Base = obj
