@@ -87,12 +87,25 @@ def gui_run(tmp_path_factory):
     with open(result_path, encoding="utf-8") as f:
         result = json.load(f)
     result["log"] = log
+    result["output"] = proc.stdout + proc.stderr
+    with open(os.path.join(OUT, "gui_output.txt"), "w", encoding="utf-8") as f:
+        f.write(result["output"])   # FreeCAD's console: look here when a check fails
     result["elapsed"] = elapsed
     return result
 
 
 def test_scenario_finished(gui_run):
     assert gui_run["error"] is None, gui_run["error"] + "\n" + gui_run["log"]
+
+
+def test_no_python_error_escaped(gui_run):
+    """No exception escaped a command, a field's handler or a drag into FreeCAD or Qt (they
+    print a traceback and the user sees nothing): the only tracebacks in FreeCAD's console
+    are its reports of a feature's refusal (a DeformError raised in execute)."""
+    for block in gui_run["output"].split("Traceback (most recent call last)")[1:]:
+        frames = [line for line in block.splitlines() if line.strip().startswith("File ")]
+        refusal = frames and frames[0].endswith(", in execute") and "DeformError" in block
+        assert refusal, block[:3000]
 
 
 def test_all_checks_pass(gui_run):
