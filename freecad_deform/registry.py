@@ -9,17 +9,19 @@ Adding a feature <Name> (module <name>, e.g. "DimensionDrive", "dimension_drive"
 2. ops/<name>.py: the pipeline per base kind, tested on real models.
 3. features/<name>.py: class <Name> (TYPE = "<Name>"), properties with tooltips and units,
    execute; api.py: make_<name>.
-4. gui/<name>_panel.py: class <Name>Panel (from gui/bindings.py and gui/widgets.py);
+4. gui/<name>_panel.py: class <Name>Panel(task_panel.TaskPanelBase), its fields from
+   gui/bindings.py and gui/widgets.py, its 3D-view nodes from gui/coin_nodes.py;
    gui/commands.py: class <Name>Command(CommandBase) with create();
    resources/icons/<Name>.svg.
-5. One Feature(...) line in FEATURES below (menu text, tooltip; the names above follow
-   from <Name> and <name>). A command that is no feature (a tool on existing objects) is a
-   Tool(...) in TOOLBAR with the path of its command class.
+5. One Feature(...) entry in FEATURES below, in toolbar order (menu text, tooltip, GUI
+   test parts; the names above follow from <Name> and <name>). A command that makes no
+   feature (a tool on existing objects) is a Tool(...) in TOOLS with the path of its
+   command class.
 6. deform_tests/features/test_<name>.py, deform_tests/gui/scenario_<name>.py (its part
    named in `scenarios`), rows in the real-parts matrix, a benchmark, a README section and
    an example macro.
-deform_tests/test_registry.py checks that the exports, proxies, panels, commands and icons
-agree with this list.
+deform_tests/gui/test_registry.py checks that the exports, proxies, panels, commands, icons
+and GUI test parts agree with this list; the GUI run checks the toolbar, menu and icons.
 """
 from dataclasses import dataclass, field
 import re
@@ -37,7 +39,8 @@ class Tool:
     """A toolbar and menu command. `command_class`: "module.Class" of its FreeCAD command,
     constructed with this entry (gui.commands.<name>Command unless given; a subclass of
     gui.commands.CommandBase); `api`: the macro function it stands for; `scenarios`: its
-    parts of the GUI test (deform_tests/gui/scenario_<part>.py, function <part>)."""
+    parts of the GUI test (deform_tests/gui/scenario_<part>.py, function <part>); `after`:
+    the toolbar entry it follows (a tool not given one comes last)."""
 
     name: str
     menu_text: str
@@ -46,6 +49,7 @@ class Tool:
     command_class: str = ""
     api: str = ""
     scenarios: tuple = field(default=())
+    after: str = ""
 
     def __post_init__(self):
         if not self.icon:
@@ -135,16 +139,14 @@ FEATURES = (
 
 _BY_NAME = {f.name: f for f in FEATURES}
 
-# The toolbar and menu, in order: every feature's command, and the tools beside them.
-TOOLBAR = (
-    *FEATURES[:5],
+# Commands that make no feature of their own: tools on existing objects.
+TOOLS = (
     Tool("MatchingDrive", "Drive matching region",
          "Apply a DimensionDrive to the matching region of another part (a bore and the "
          "shaft in it): the new drive's Target follows the first one's, so one value changes "
          "both parts.\n"
          "Select a DimensionDrive, then the mesh, solid or FEM mesh of the other part.",
-         icon="DimensionDrive", api="make_matching_drive"),
-    *FEATURES[5:],
+         icon="DimensionDrive", api="make_matching_drive", after="DimensionDrive"),
     Tool("Solve", "Goal seek",
          "Find the value of a property, within bounds, that makes an output (VolumeChange, "
          "Achieved, AchievedArea, a bounding-box length) hit a target, or least or greatest; "
@@ -153,6 +155,20 @@ TOOLBAR = (
          "output.", command_class=f"{PACKAGE}.gui.solve_panel.SolveCommand", api="solve",
          scenarios=("solve",)),
 )
+
+
+def _toolbar(features, tools):
+    """The features in order, each tool after the entry it names (else at the end)."""
+    entries = list(features)
+    for tool in tools:
+        names = [e.name for e in entries]
+        entries.insert(names.index(tool.after) + 1 if tool.after in names else len(entries),
+                       tool)
+    return tuple(entries)
+
+
+# The toolbar and menu, in order.
+TOOLBAR = _toolbar(FEATURES, TOOLS)
 
 # The macro API (freecad_deform.<name>, from api.py): every tool's function.
 API = tuple(dict.fromkeys(t.api for t in TOOLBAR if t.api))
