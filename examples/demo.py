@@ -56,6 +56,9 @@ import Points  # noqa: E402
 from scipy.spatial import cKDTree  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
+# the oracles shared with the tests (OCCT sections and commons, the Mesh checks)
+from deform_tests.oracles.shapes import (closed_manifold, mesh_section_area,  # noqa: E402
+                                         section_area, slab_volume)
 
 V = App.Vector
 X, Y, Z = np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), np.array([0, 0, 1.0])
@@ -64,12 +67,6 @@ REVOLUTION = {"Plane", "Cylinder", "Cone", "Toroid", "Sphere", "SurfaceOfRevolut
 
 
 # ---------------------------------------------------------------------------- oracles
-
-def section_area(shape, origin, normal):
-    """Area of the shape's cross-section in the plane: Shape.slice wires made into faces."""
-    face = section_face(shape, origin, normal)
-    return face.Area if face is not None else 0.0
-
 
 def section_face(shape, origin, normal):
     """The shape's cross-section in the plane (Shape.slice wires made into faces), or None."""
@@ -94,14 +91,6 @@ def rodrigues(points, axis_point, axis_direction, angle):
     a = np.radians(np.asarray(angle, float))[..., None]
     v = np.asarray(points, float).reshape(-1, 3) - c
     return c + v * np.cos(a) + np.cross(w, v) * np.sin(a) + np.outer(v @ w, w) * (1 - np.cos(a))
-
-
-def slab_volume(shape, origin, normal, width):
-    """Volume of the part between the plane and the plane `width` beyond it (a box common)."""
-    size = 4 * shape.BoundBox.DiagonalLength
-    box = Part.makeBox(size, size, width, V(-size / 2, -size / 2, 0))
-    box.Placement = App.Placement(V(*origin), App.Rotation(V(0, 0, 1), V(*normal)))
-    return shape.common(box).Volume
 
 
 def lemma1(shape, planes, normal, tangent=None, fractions=(0.5,)):
@@ -134,11 +123,6 @@ def _extent(shape, normal):
     corners = np.array([[x, y, z] for x in (bb.XMin, bb.XMax) for y in (bb.YMin, bb.YMax)
                         for z in (bb.ZMin, bb.ZMax)]) @ normal
     return min(pts.min(), corners.min()), max(pts.max(), corners.max())
-
-
-def mesh_section_area(mesh, origin, normal):
-    """Shoelace area of the mesh's cross-section polylines (Mesh.crossSections)."""
-    return mesh_section(mesh, origin, normal)[0]
 
 
 def mesh_section(mesh, origin, normal):
@@ -174,17 +158,8 @@ def check_closed_mesh(rep, obj, mesh, before, change):
     rep.check("mesh.isSolid() (closed)", mesh.isSolid(), True)
     rep.check("mesh.hasNonManifolds()", mesh.hasNonManifolds(), False)
     rep.check("every edge shared by two facets, opposite directions (numpy edge count)",
-              edge_manifold(mesh), True)
+              closed_manifold(mesh), True)
     rep.check("mesh.countComponents()", mesh.countComponents(), before.countComponents())
-
-
-def edge_manifold(mesh):
-    """Every undirected edge used by exactly two facets, once in each direction."""
-    f = np.array(mesh.Topology[1])
-    directed = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
-    _, counts = np.unique(np.sort(directed, axis=1), axis=0, return_counts=True)
-    _, dcounts = np.unique(directed, axis=0, return_counts=True)
-    return bool(np.all(counts == 2) and np.all(dcounts == 1))
 
 
 def face_types(shape):
