@@ -1185,7 +1185,7 @@ class Demo:
                   [(10.0, "True"), (30.0, "True"), (50.0, "True")])
         rep.check("sweep: each row's Stretch.VolumeChange = A x Distance (largest rel. error)",
                   worst, 0.0, ok=worst <= REL)
-        volume = v0 + area * d_solve
+        volume = float(v0 + area * d_solve)
         done = command("solve", part, "--vary", "Stretch.Distance=0:100", "--target",
                        f"Stretch.Shape.Volume={volume!r}", "--out",
                        os.path.join(folder, "solved.FCStd"))
@@ -1204,10 +1204,9 @@ class Demo:
         shift = np.array([30.0, 3.0, 2.0])
         q = rodrigues([140.0, 0, 0], *turn)[0] + shift
         b = rodrigues(X, np.zeros(3), Z, 3.0)[0]
-        text = ",".join
+        text = lambda v: ",".join(repr(float(c)) for c in v)  # noqa: E731  (numpy 2 repr)
         done = command("reach", path, "--base", "Model", "--plane", "120,0,0:1,0,0",
-                       "--feature", "Face338", "--target",
-                       f"{text(map(repr, q))}:{text(map(repr, b))}", "--out",
+                       "--feature", "Face338", "--target", f"{text(q)}:{text(b)}", "--out",
                        os.path.join(folder, "reached.FCStd"))
         rep.fact("reach", f"{done['last']} in {done['seconds']:.1f} s")
         rep.check("reach: the method used", done["last"], "Method = KeyFrames")
