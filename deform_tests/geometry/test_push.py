@@ -175,7 +175,7 @@ def test_a_push_against_a_fixed_point_names_it():
     c = wavy()
     state = push.curve_state(c, fixed=[curve_point(c, 0.5)], tol=1e-6)
     with pytest.raises(DeformError) as e:
-        push.replay(state, [curve_point(c, 0.5) + [0, 3, 0]], lambda i, _: 0.5)
+        push.replay(state, [curve_point(c, 0.5) + [0, 3, 0]], lambda i, _: state.fixed[0])
     assert e.value.prop == "Fixed" and str(e.value).startswith("Points[0]: ")
 
 
