@@ -13,6 +13,8 @@ from .features.direct_push import DirectPush
 from .features.stretch import Stretch
 from .features.taper import Taper
 from .features.twist import Twist
+from .geometry.errors import DeformError
+from .ops import dimension_drive as dimension_drive_op
 from .shapes.convert import plane_placement
 
 
@@ -125,8 +127,24 @@ def make_matching_drive(drive, other):
     """The DimensionDrive `drive` applied to the matching plane or cylinder of the mesh (or
     solid, or FEM mesh) `other`, its Target bound to drive's by an expression: one value
     changes both parts, a bore and its shaft (Date & Onosato, Fig. 8)."""
-    from .features.dimension_drive import make_matching_drive as matching
-    return matching(drive, other)
+    model, _ = drive.Proxy.model(drive)
+    shown = other.Visibility
+    probe = make_dimension_drive(other, drive.Kind, [], 1.0,
+                                 feature_angle=drive.FeatureAngle.Value,
+                                 handle_tolerance=drive.HandleTolerance.Value)
+    try:
+        picks = dimension_drive_op.matching_regions(model, drive.Regions,
+                                                    probe.Proxy.model(probe)[0])
+    except DeformError:
+        probe.Document.removeObject(probe.Name)     # nothing left behind
+        other.Visibility = shown
+        raise
+    probe.Regions = [App.Vector(*p) for p in picks]
+    for name in ("Target", "TargetV", "TargetAngle"):
+        probe.setExpression(name, f"{drive.Name}.{name}")
+    probe.Origin, probe.AxisPoint = drive.Origin, drive.AxisPoint
+    probe.Document.recompute()
+    return probe
 
 
 def make_dimension_drive(mesh_obj, kind, regions, target, **options):

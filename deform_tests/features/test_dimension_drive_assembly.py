@@ -12,7 +12,7 @@ import numpy as np  # noqa: E402
 import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
-from freecad_deform.features.dimension_drive import make_matching_drive  # noqa: E402
+from freecad_deform.api import make_matching_drive  # noqa: E402
 
 from ..oracles.fits import circle  # noqa: E402
 

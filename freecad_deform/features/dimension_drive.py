@@ -12,7 +12,6 @@ import FreeCAD as App
 import numpy as np
 
 from ..geometry.errors import DeformError
-from ..geometry.mesh import dimension_drive as dd
 from ..geometry.mesh.regions import region_colours
 from ..ops import dimension_drive as op
 from ..shapes.convert import mesh_arrays, tessellated
@@ -213,31 +212,3 @@ class DimensionDriveFem(DimensionDrive):
 def proxy_for(base):
     """The DimensionDrive proxy class for `base`: DimensionDriveFem for a FEM mesh."""
     return DimensionDriveFem if is_fem_mesh(base) else DimensionDrive
-
-
-def make_matching_drive(drive_obj, other):
-    """A DimensionDrive on the mesh `other` (a mesh, solid or FEM mesh) on the regions that
-    match those of `drive_obj` (the same planes and cylinders: a shaft in a bore), its
-    Target bound to drive_obj's by an expression, so one value changes both parts (Date &
-    Onosato, Fig. 8)."""
-    from ..api import make_dimension_drive
-    model, _ = drive_obj.Proxy.model(drive_obj)
-    shown = other.Visibility
-    probe = make_dimension_drive(other, drive_obj.Kind, [], 1.0,
-                                 feature_angle=drive_obj.FeatureAngle.Value,
-                                 handle_tolerance=drive_obj.HandleTolerance.Value)
-    try:
-        mine = probe.Proxy.model(probe)[0]
-        picks = dd.matching_regions(getattr(model, "surface", model),
-                                    [tuple(p) for p in drive_obj.Regions],
-                                    getattr(mine, "surface", mine))
-    except DeformError:
-        probe.Document.removeObject(probe.Name)     # nothing left behind
-        other.Visibility = shown
-        raise
-    probe.Regions = [App.Vector(*p) for p in picks]
-    for name in ("Target", "TargetV", "TargetAngle"):
-        probe.setExpression(name, f"{drive_obj.Name}.{name}")
-    probe.Origin, probe.AxisPoint = drive_obj.Origin, drive_obj.AxisPoint
-    probe.Document.recompute()
-    return probe

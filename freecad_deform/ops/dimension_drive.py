@@ -108,3 +108,10 @@ def fem(model, femmesh, ids, kind, regions, target, origin=None, axis_point=None
                             kind, regions, target, origin, axis_point)
     outputs["QualityAfter"] = model.quality(nodes)
     return fem_with_nodes(femmesh, ids, nodes), outputs
+
+
+def matching_regions(model, regions, other):
+    """Points on the mesh of handle `other` picking its regions on the same planes and
+    cylinders as `regions` of handle `model` (a shaft in a bore, a face against a face)."""
+    return dd.matching_regions(getattr(model, "surface", model), [tuple(p) for p in regions],
+                               getattr(other, "surface", other))
