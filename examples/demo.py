@@ -1062,15 +1062,17 @@ class Demo:
         n0 = np.cross(v0[t0[:, 1]] - v0[t0[:, 0]], v0[t0[:, 2]] - v0[t0[:, 0]])
         n1 = np.cross(v1[t1[:, 1]] - v1[t1[:, 0]], v1[t1[:, 2]] - v1[t1[:, 0]])
         rep.check("no triangle turned over", int((np.einsum("ij,ij->i", n0, n1) <= 0).sum()), 0)
-        rep.check("Achieved = Target", obj.Achieved, target, ok=abs(obj.Achieved - target) <= fit_tol)
+        rep.check("Achieved = Target", obj.Achieved, target,
+                  ok=abs(obj.Achieved - target) <= fit_tol)
         self.feature_row("DimensionDrive", "fandisk.obj", "Kind Distance, Target 4.65 mm "
                          "(was 4.8279)", f"Achieved {obj.Achieved:.6g} mm", np.array_equal(t0, t1),
                          "SVD plane fits of the two faces' vertices",
                          abs(achieved - target) / target, fit_tol / target)
         obj.Mesh.write(os.path.join(self.out, "dimension_drive.stl"))
         self.exports.append("dimension_drive.stl")
-        self.picture("dimension_drive.png", "DimensionDrive: the fandisk's plane x = 4.83 driven to "
-                     "4.65 mm from x = 0", [("before", "mesh", (v0, t0)), ("after", "mesh", (v1, t1))],
+        self.picture("dimension_drive.png", "DimensionDrive: the fandisk's plane x = 4.83 "
+                     "driven to 4.65 mm from x = 0",
+                     [("before", "mesh", (v0, t0)), ("after", "mesh", (v1, t1))],
                      planes, [(planes[0][0] - (4.8279 - target) * X, X), planes[1]], (25, -35))
 
     def _splinecage(self):

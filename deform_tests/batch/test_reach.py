@@ -115,7 +115,9 @@ def rigid(rot, centre, shift):
     (((140.0, 0, 0), (0, 0, 1.0), 3.0), (30.0, 3.0, 2.0)),
     # a screw: the Bend's -20 deg turn about Y plus a 1 mm slide along Y (lifted off first)
     (((120.0, 0, 40.0), (0, 1.0, 0), -20.0), (0.0, 1.0, 0.0)),
-], ids=["slide-and-turn", "screw"])
+    # a wider slide (8 mm along Y, 2 along Z) with a -4 deg turn about Z: a smooth path
+    (((140.0, 0, 0), (0, 0, 1.0), -4.0), (40.0, 8.0, 2.0)),
+], ids=["slide-and-turn", "screw", "wide-slide"])
 def test_reach_by_key_frames_lands_the_hole_rims(bracket, turn, shift):
     """Neither a Stretch nor a Bend: a Stretch whose far part ends at EndPlacement through
     key frames (Method KeyFrames). Oracle: the hole's two rim circles (x = 135 and 145 on

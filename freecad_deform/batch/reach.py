@@ -5,8 +5,8 @@ then the translation taking the point to the target point. A translation along t
 normal is made as a Stretch, a rotation about an axis (no slide along it) as an exact Bend.
 A motion that is neither (a screw, or a translation across the normal) is swept through key
 frames (Step 6 of the paper): a Stretch whose far part ends at EndPlacement, the gap lofted
-along the motion, lifted off the Plane along its normal first where a direct path would
-reach back into the part."""
+along the motion: direct, else along a smooth path leaving the Plane along its normal, else
+lifted off the Plane first, where a more direct path would reach back into the part."""
 import numpy as np
 
 from . import model
@@ -77,15 +77,52 @@ def motion_kind(p, a, q, b, origin, normal, tol):
     return "Bend", centre, u, float(np.degrees(angle))
 
 
-def key_frame_tries(end, origin, normal):
-    """(KeyPlacements, Interpolation) to try in turn for a key-frame sweep ending at `end`:
-    the direct motion, then lifted off the Plane along its normal by half the far part's
-    advance (profiles stay normal to the path, so a path that leaves the Plane obliquely
-    would reach back into the part)."""
+def key_frame_tries(end, origin, normal, centre):
+    """(KeyPlacements, Interpolation) to try in turn for a key-frame sweep ending at `end`.
+    Profiles stay normal to the path of the section's `centre`, so a path that leaves the
+    Plane obliquely would reach back into the part: after the direct motion, a smooth one
+    (8 keys on a cubic Hermite path of `centre` leaving along the normal and arriving along
+    the turned normal, the turn eased in and out), then a lift off the Plane along its
+    normal by half the far part's advance followed by the rest (a crease at the lift)."""
     advance = float((end[:3, :3] @ origin + end[:3, 3] - origin) @ normal)
     lift = np.eye(4)
     lift[:3, 3] = 0.5 * max(advance, 0.0) * normal
-    return [([], "Rational"), ([lift], "Screw"), ([lift], "Rational")]
+    return [([], "Rational"), (hermite_keys(end, normal, centre, 8), "Rational"),
+            ([lift], "Screw"), ([lift], "Rational")]
+
+
+def hermite_keys(end, normal, centre, count):
+    """`count` - 1 key placements (the last, `end`, left out) on the motion whose point
+    `centre` follows the cubic Hermite curve to end(centre) with tangents along the normal
+    and the turned normal (lengths the chord), turning by slerp eased with 3s^2 - 2s^3."""
+    from scipy.spatial.transform import Rotation, Slerp
+    rot = end[:3, :3]
+    target = rot @ centre + end[:3, 3]
+    chord = float(np.linalg.norm(target - centre))
+    turn = Slerp([0.0, 1.0], Rotation.from_matrix(np.stack([np.eye(3), rot])))
+    keys = []
+    for t in np.linspace(0.0, 1.0, count + 1)[1:-1]:
+        h00, h10, h01, h11 = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, \
+            -2 * t**3 + 3 * t**2, t**3 - t**2
+        point = (h00 * centre + h10 * chord * normal + h01 * target
+                 + h11 * chord * (rot @ normal))
+        key = np.eye(4)
+        key[:3, :3] = turn([3 * t**2 - 2 * t**3]).as_matrix()[0]
+        key[:3, 3] = point - key[:3, :3] @ centre
+        keys.append(key)
+    return keys
+
+
+def section_centre(shape, origin, normal):
+    """The centroid of the shape's section at the Plane (the point whose path the key-frame
+    profiles follow); the Plane's origin when the section has no face."""
+    import Part
+    wires = [w for w in shape.slice(App.Vector(*map(float, normal)), float(origin @ normal))
+             if w.isClosed()]
+    if not wires:
+        return origin
+    face = Part.makeFace(wires, "Part::FaceMakerBullseye")  # holes inside their outline
+    return np.array(tuple(face.CenterOfMass)) if face.Area > 0 else origin
 
 
 def _placement(matrix):
@@ -146,7 +183,8 @@ def _key_frames(doc, obj, origin, normal, end, vec):
     made.UseEndPlacement = True
     made.EndPlacement = _placement(end)
     errors = []
-    for keys, interpolation in key_frame_tries(end, origin, normal):
+    centre = section_centre(obj.Shape, origin, normal)
+    for keys, interpolation in key_frame_tries(end, origin, normal, centre):
         made.KeyPlacements = [_placement(k) for k in keys]
         made.Interpolation = interpolation
         made.touch()
@@ -157,5 +195,7 @@ def _key_frames(doc, obj, origin, normal, end, vec):
                     "interpolation": interpolation}
         errors.append(error)
     _remove(doc, obj, made)
-    raise model.BatchError(f"the key-frame sweep that reaches the target fails ({errors[-1]}); "
-                           f"give a target the far part reaches moving away from the Plane.")
+    raise model.BatchError(
+        f"the key-frame sweep that reaches the target fails ({errors[-1]}); give a target the "
+        f"far part reaches with less sideways motion for its advance along the Plane's normal "
+        f"(each profile turns with the path, and the turn must stay wider than the section).")
