@@ -78,6 +78,10 @@ def solve(h):
     Gui.Selection.clearSelection()
     cmd.run()
     h.wait(lambda: h.panel_form("Solve") is not None)
+    fill(h, "Stretch.Distance", "-500", "100", "Stretch.VolumeChange", repr(AREA * 30.0))
+    message = h.field("ErrorLabel", "Solve").text()
+    h.check("Solve: bounds where the model fails: the panel names the property to narrow",
+            "narrow the bounds of Stretch.Distance" in message, message)
     fill(h, "Stretch.Distance", "0", "100", "Stretch.VolumeChange", repr(AREA * 30.0))
     solved = abs(stretch.Distance.Value - 30.0) < 1e-9
     h.press("Cancel")

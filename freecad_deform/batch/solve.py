@@ -39,7 +39,7 @@ class _Model:
         if error:
             at = ", ".join(f"{n} = {v!r}" for n, v in zip(self.names, x))
             raise model.BatchError(f"at {at} the model fails ({error}); narrow the bounds of "
-                                   f"--vary.")
+                                   f"{', '.join(self.names)} (--vary).")
         values = [model.read_value(self.doc, p) for p in self.outputs]
         if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
             raise model.BatchError(f"{', '.join(self.outputs)} must be a number to solve "
