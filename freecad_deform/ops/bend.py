@@ -46,7 +46,7 @@ def mesh(base, origin, normal, angle, axis, gap=None, samples=16):
     plane), or the region cut into `samples` slabs and mapped (two planes)."""
     motion = _motion(origin, normal, angle, axis, gap)
     v, t = mesh_arrays(base)
-    return pp.mesh_result(base, *(
+    return pp.mesh_result((v, t), *(
         mesh_sweep.sweep_mesh(v, t, origin, normal, motion, samples, mesh_eps(v))
         if gap is None else
         mesh_sweep.map_between(v, t, origin, normal, gap, motion, samples, mesh_eps(v))))

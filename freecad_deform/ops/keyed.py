@@ -27,7 +27,7 @@ def mesh(base, origin, normal, motion, samples=16):
     """(Mesh, {VolumeChange}): the section ring swept through samples + 1 configurations."""
     from ..shapes.convert import mesh_arrays, mesh_eps
     v, t = mesh_arrays(base)
-    return pp.mesh_result(base, *mesh_sweep.sweep_mesh(v, t, origin, normal, motion, samples,
+    return pp.mesh_result((v, t), *mesh_sweep.sweep_mesh(v, t, origin, normal, motion, samples,
                                                         mesh_eps(v)))
 
 

@@ -154,11 +154,12 @@ def section_centroid_cloud(points, origin, normal):
     return near.mean(axis=0) - ((near.mean(axis=0) - origin) @ normal) * normal
 
 
-def mesh_result(base_mesh, vertices, triangles):
-    """The new Mesh and its VolumeChange, measured in float64 on the arrays."""
+def mesh_result(base_arrays, vertices, triangles):
+    """The new Mesh and its VolumeChange, measured in float64 on the arrays (the Base's
+    `base_arrays`, (vertices, triangles), and the result's)."""
     from ..geometry.mesh.measure import mesh_volume
-    from ..shapes.convert import mesh_arrays, mesh_from_arrays
-    change = mesh_volume(vertices, triangles) - mesh_volume(*mesh_arrays(base_mesh))
+    from ..shapes.convert import mesh_from_arrays
+    change = mesh_volume(vertices, triangles) - mesh_volume(*base_arrays)
     return mesh_from_arrays(vertices, triangles), {"VolumeChange": change}
 
 

@@ -34,7 +34,7 @@ def mesh(base, origin, normal, distance, gap=None):
     """(Mesh, {VolumeChange}) of a closed triangle mesh stretched likewise."""
     second = () if gap is None else (origin + gap * normal, normal)
     v, t = mesh_arrays(base)
-    return pp.mesh_result(base, *stretch_mesh(v, t, origin, normal, distance, *second,
+    return pp.mesh_result((v, t), *stretch_mesh(v, t, origin, normal, distance, *second,
                                               eps=mesh_eps(v)))
 
 

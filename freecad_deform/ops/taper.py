@@ -36,7 +36,7 @@ def mesh(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):
     if point is None:
         point = pp.section_centroid_mesh(base, origin, normal)
     smap = taper_map(origin, normal, gap, scale, rows, point, profile)
-    return pp.mesh_result(base, smap(v), t)
+    return pp.mesh_result((v, t), smap(v), t)
 
 
 def points(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):

@@ -37,7 +37,7 @@ def mesh(base, origin, normal, gap, angle, axis=None, samples=16):
     v, t = mesh_arrays(base)
     axis = axis or (pp.section_centroid_mesh(base, origin, normal), normal)
     of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
-    return pp.mesh_result(base, *mesh_sweep.map_between(v, t, origin, normal, gap, of_s,
+    return pp.mesh_result((v, t), *mesh_sweep.map_between(v, t, origin, normal, gap, of_s,
                                                         samples, mesh_eps(v)))
 
 

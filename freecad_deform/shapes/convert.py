@@ -102,24 +102,80 @@ def mesh_eps(vertices):
 
 
 def mesh_from_arrays(vertices, triangles):
-    """A Mesh.Mesh from vertex and triangle arrays.
+    """A Mesh.Mesh from vertex and triangle arrays (unused vertices left out).
 
-    Written as a binary STL by numpy and read by FreeCAD: three times faster than building
-    from Python lists (Mesh stores float32 and merges coincident points either way).
+    Written in FreeCAD's own binary mesh format (.bms: float32 points, facets with their
+    neighbours) and read by FreeCAD, which then has no points to merge and no neighbours
+    to rebuild: 4x faster than a binary STL, 10x faster than Python lists. The neighbours
+    come from one sparse matrix of the directed edges and its transpose; a mesh where an
+    edge is not shared by exactly two facets of opposite directions (open, non-manifold,
+    flipped) goes through a binary STL instead, whose reader merges and rebuilds.
     """
-    import os
-    import tempfile
+    V = np.asarray(vertices, float).reshape(-1, 3)
+    T = np.asarray(triangles, np.int64).reshape(-1, 3)
+    used = np.bincount(T.ravel(), minlength=len(V)) > 0
+    if not used.all():
+        T = (np.cumsum(used) - 1)[T]
+        V = V[used]
+    neighbours = _neighbours(T, len(V))
+    if neighbours is None or not len(T):
+        return _stl_mesh(V, T)
+    P = V.astype("<f4")
+    facets = np.empty((len(T), 6), "<u4")
+    facets[:, :3] = T
+    facets[:, 3:] = neighbours
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    return _read_mesh(".bms", (np.array([0xA0B0C0D0, 0x010000], "<u4"), BMS_INFO,
+                               np.array([len(P), len(T)], "<u4"), P, facets,
+                               np.stack([lo, hi], 1).astype("<f4")))
 
-    import Mesh
-    tri = np.asarray(vertices, float)[np.asarray(triangles, np.int64)]
+
+BMS_INFO = np.frombuffer(b"MESH-" * 51 + b"M", np.uint8)   # the format's 256-byte info
+
+
+def _neighbours(T, N):
+    """(M, 3) the facet across edge T[:, j] -> T[:, j+1] of each facet, or None unless every
+    directed edge occurs once and its reverse once (a closed, consistently oriented
+    2-manifold). Entry k of the edges' sparse matrix (rows sorted) and entry k of its
+    transpose's are the edges a -> b and b -> a."""
+    from scipy.sparse import coo_matrix
+    a, b = T.ravel(), T[:, [1, 2, 0]].ravel()
+    ids = np.arange(1, len(a) + 1, dtype=np.int64)
+    if N >= 2 ** 31 or len(a) >= 2 ** 31:
+        return None
+    a32, b32 = a.astype(np.int32), b.astype(np.int32)
+    A = coo_matrix((ids, (a32, b32)), shape=(N, N)).tocsr()
+    At = coo_matrix((ids, (b32, a32)), shape=(N, N)).tocsr()
+    A.sort_indices()
+    At.sort_indices()
+    if A.nnz != len(a) or not (np.array_equal(A.indptr, At.indptr)
+                               and np.array_equal(A.indices, At.indices)):
+        return None
+    across = np.empty(len(a), np.int64)
+    across[A.data - 1] = (At.data - 1) // 3
+    return across.reshape(-1, 3)
+
+
+def _stl_mesh(V, T):
+    tri = V[T]
     record = np.zeros(len(tri), dtype=[("normal", "<f4", 3), ("corners", "<f4", (3, 3)),
                                        ("attribute", "<u2")])
     record["normal"] = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     record["corners"] = tri
-    handle, path = tempfile.mkstemp(suffix=".stl")
+    return _read_mesh(".stl", (np.zeros(80, np.uint8), np.array([len(tri)], "<u4"), record))
+
+
+def _read_mesh(suffix, parts):
+    """Mesh.Mesh read from a temporary file made of the arrays `parts`, in order."""
+    import os
+    import tempfile
+
+    import Mesh
+    handle, path = tempfile.mkstemp(suffix=suffix)
     try:
         with os.fdopen(handle, "wb") as out:
-            out.write(bytes(80) + np.uint32(len(tri)).tobytes() + record.tobytes())
+            for part in parts:
+                out.write(np.ascontiguousarray(part).tobytes())
         return Mesh.Mesh(path)
     finally:
         os.remove(path)
