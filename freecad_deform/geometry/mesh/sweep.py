@@ -13,6 +13,7 @@ from ..errors import DeformError
 from .cut import arrays, cut_arrays, seam
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, unit_normal
+from ..vectors import skew, unit
 
 
 def _check_samples(samples):
@@ -118,10 +119,26 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     f = np.clip(((V - o) @ n) / gap, 0.0, 1.0)
     on = plane_of >= 0
     f[on] = plane_of[on] / samples
+    return move_by_fraction(V, f, motion_of_s), T
+
+
+def move_by_fraction(points, f, motion_of_s):
+    """Point i moved by motion_of_s(f[i]); the points with f = 0 returned bit-identical.
+
+    A motion with `moved` (twist_motion, bend_motion) turns every point directly, one
+    Rodrigues rotation per point on float arrays; any other through its (K, 4, 4)
+    transforms, one per distinct fraction."""
+    P = np.asarray(points, float)
     move = f > 0
+    if hasattr(motion_of_s, "moved"):
+        out = motion_of_s.moved(P, f)
+        np.copyto(out, P, where=~move[:, None])
+        return out
+    out = P.copy()
     fractions, which = np.unique(f[move], return_inverse=True)   # a plane's points share one
-    V[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)], V[move])
-    return V, T
+    out[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)],
+                           P[move])
+    return out
 
 
 def slab_cut(V, T, o, n, gap, samples, eps):
@@ -305,8 +322,25 @@ def _check_gap(gap):
     return gap
 
 
-def _vectorized(fn):
+def _vectorized(fn, point, direction, angle, shift=None):
+    """Mark fn (fraction -> rotation(point, direction, fraction * angle) @
+    translation(-fraction * shift)) as taking arrays, and give it `moved(points, fracs)`:
+    each point (K, 3) moved by fn(fracs[i]) without building its 4x4."""
+    c = np.asarray(point, float)
+    K = skew(unit(direction, "Axis")).T
+
+    def moved(points, fracs):
+        f = np.asarray(fracs, float)
+        Q = np.asarray(points, float)
+        if shift is not None:
+            Q = Q - f[:, None] * shift
+        kr = (Q - c) @ K                                       # k x r, r from the axis point
+        phi = f * angle
+        half = np.sin(phi / 2)
+        return Q + np.sin(phi)[:, None] * kr + (2 * half * half)[:, None] * (kr @ K)
+
     fn.vectorized = True
+    fn.moved = moved
     return fn
 
 
@@ -322,11 +356,10 @@ def twist_motion(origin, normal, gap, angle, axis_point=None, axis_direction=Non
     rotation(point, direction, 0.0)                       # checks the direction now
     angle = float(angle)
 
-    @_vectorized
     def motion_of_s(frac):
         return rotation(point, direction, np.asarray(frac, float) * angle)
 
-    return motion_of_s
+    return _vectorized(motion_of_s, point, direction, angle)
 
 
 def bend_motion(axis_point, axis_direction, angle, origin, normal, gap):
@@ -341,10 +374,9 @@ def bend_motion(axis_point, axis_direction, angle, origin, normal, gap):
     rotation(point, axis_direction, 0.0)
     angle = float(angle)
 
-    @_vectorized
     def motion_of_s(frac):
         f = np.asarray(frac, float)
         return rotation(point, axis_direction, f * angle) @ translation(
             -(f * gap)[..., None] * n)
 
-    return motion_of_s
+    return _vectorized(motion_of_s, point, axis_direction, angle, gap * n)

@@ -89,8 +89,6 @@ def stretch_points(points, origin, normal, distance, origin2=None, normal2=None,
         out = pts[keep].copy()
         out[s[keep] > 0] += distance * n
         return out
-    out = pts.copy()
-    out[s > 0] += distance * n
     step = step or spacing(pts)
     band = section_band(s, step)
     section = pts[band] - s[band, None] * n
@@ -103,5 +101,8 @@ def stretch_points(points, origin, normal, distance, origin2=None, normal2=None,
                           f"{most:.6g}.", "Distance")
     layers = max(int(np.ceil(layers)), 1)
     offsets = np.arange(1, layers) * (distance / layers)
-    fill = (section[None, :, :] + offsets[:, None, None] * n).reshape(-1, 3)
-    return np.vstack([out, fill])
+    out = np.empty((len(pts) + (layers - 1) * len(section), 3))
+    out[:len(pts)] = pts
+    np.add(pts, distance * n, out=out[:len(pts)], where=(s > 0)[:, None])  # far ones moved
+    out[len(pts):] = (section[None, :, :] + offsets[:, None, None] * n).reshape(-1, 3)
+    return out

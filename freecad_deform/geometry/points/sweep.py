@@ -6,7 +6,8 @@ by sampled configurations of the motion, as in the paper's point-cloud examples.
 import numpy as np
 
 from ..errors import DeformError
-from ..sweep.motion import apply, apply_each, fraction_matrices
+from ..mesh.sweep import move_by_fraction
+from ..sweep.motion import apply
 from ..sweep.planes import TOUCH, check_crossing, signed_distance, unit_normal
 from .stretch import EVERY_POINT, MAX_FILL, section_band, spacing
 
@@ -34,26 +35,37 @@ def sweep_points(points, origin, normal, motion, step=None, prop="Angle"):
     if not np.isfinite(step) or step <= 0:
         raise DeformError(f"The fill step must be a positive length (it is {step:g}); "
                           f"give a positive Step.", "Step")
-    out = pts.copy()
     far = s > TOUCH
-    out[far] = apply(motion.matrix(1.0), pts[far])
     near = section_band(s, step)
     section = pts[near] - s[near, None] * n
     if len(section) == 0:
-        return out
+        return _moved(pts, far, motion.matrix(1.0), 0)
     dense = np.linspace(0.0, 1.0, _PATH_SAMPLES)
     path = apply(np.asarray(motion.matrices(dense)), section.mean(axis=0)[None])[:, 0]
     length = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
     layers = max(int(np.ceil(length[-1] / step - 1e-9)), 1)
     if layers == 1:
-        return out
+        return _moved(pts, far, motion.matrix(1.0), 0)
     if (layers - 1) * len(section) > MAX_FILL:
         raise DeformError(f"The gap's fill would add {(layers - 1) * len(section):.3g} points "
                           f"at the cloud's spacing {step:.3g} along a {length[-1]:.6g} mm path "
                           f"(at most {MAX_FILL:.3g}); shorten the motion ({prop}).", prop)
     ts = np.interp(np.arange(1, layers) * (length[-1] / layers), length, dense)
-    fill = apply(np.asarray(motion.matrices(ts)), section).reshape(-1, 3)
-    return np.vstack([out, fill])
+    out = _moved(pts, far, motion.matrix(1.0), (layers - 1) * len(section))
+    out[len(pts):] = apply(np.asarray(motion.matrices(ts)), section).reshape(-1, 3)
+    return out
+
+
+def _moved(pts, far, matrix, extra):
+    """(N + extra, 3): the points, those in `far` moved by `matrix`, the rest bit-identical
+    (every point is transformed and the near ones copied back: cheaper than gathering the
+    far ones), then `extra` rows left for the fill."""
+    out = np.empty((len(pts) + extra, 3))
+    head = out[:len(pts)]
+    np.matmul(pts, matrix[:3, :3].T, out=head)
+    head += matrix[:3, 3]
+    np.copyto(head, pts, where=~far[:, None])
+    return out
 
 
 def map_points_between(points, origin, normal, gap, motion_of_s):
@@ -69,8 +81,4 @@ def map_points_between(points, origin, normal, gap, motion_of_s):
     s = signed_distance(pts, origin, n)
     check_crossing(s, "Plane", touching=True, where=EVERY_POINT)
     check_crossing(s - gap, "Plane2", touching=True, where=EVERY_POINT)
-    f = np.clip(s / gap, 0.0, 1.0)
-    out = pts.copy()
-    move = f > 0
-    out[move] = apply_each(fraction_matrices(motion_of_s, f[move]), pts[move])
-    return out
+    return move_by_fraction(pts, np.clip(s / gap, 0.0, 1.0), motion_of_s)
