@@ -395,6 +395,30 @@ class ReliabilityTest(unittest.TestCase):
         self.assertIn("nearer the original", self.assert_refused(a, "TargetRatio"))
         self.assertTrue(ball.Shape.isValid())
 
+    def test_taper_of_a_cone_passes_the_bop_check(self):
+        """A cone tapered up to its apex region: an edge's tolerance (2.21e-7) covered the
+        sampled pcurve gap (2.16e-7) but not the peak OCCT's BOP check (the oracle) finds."""
+        cone = self.doc.addObject("Part::Feature", "Cone")
+        cone.Shape = Part.makeCone(10, 0, 40, V(-20, 0, 0), V(1, 0, 0))
+        t = fd.make_taper(cone, (V(0, 0, 0), V(1, 0, 0)),
+                          (V(16.05768740177155, 0, 0), V(1, 0, 0)), 1.563738855137635)
+        self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
+        for solid in t.Shape.Solids:
+            solid.check(True)
+
+    def test_taper_to_nothing_is_refused(self):
+        """A cylinder 16 mm across tapered to Scale 0.001 got refitted faces that fold (BOP
+        check: SelfIntersect), Up-to-date; Scale 0.01 stays valid and self-intersection
+        free (the oracle: OCCT's BOP check)."""
+        rod = self.doc.addObject("Part::Feature", "Rod")
+        rod.Shape = Part.makeCylinder(8, 40, V(-20, 0, 0), V(1, 0, 0))
+        t = fd.make_taper(rod, (V(0.1, 0, 0), V(1, 0, 0)), (V(2.6, 0, 0), V(1, 0, 0)), 0.001)
+        self.assertIn("keep Scale at", self.assert_refused(t, "Scale"))
+        t.Scale = 0.01
+        self.doc.recompute()
+        self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
+        t.Shape.Solids[0].check(True)
+
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
             self.doc.UndoMode = undo_mode

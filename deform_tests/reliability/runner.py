@@ -440,6 +440,9 @@ def refusal_problem(obj, case):
     own, text = obj.Proxy.TYPE.lower(), message
     for o in obj.Document.Objects:  # labels ("Stretch001") are names, not words
         text = text.replace(o.Label, "")
+    # pointing to the feature that does what was asked ("use Twist to turn about the
+    # normal") is advice, not another feature's words
+    text = re.sub(r"\buse (Stretch|Bend|Twist|Taper)\b", "", text)
     foreign = [w for w in ("stretch", "bend", "twist", "taper") if w != own
                and re.search(rf"\b{w}\b", text.lower())]
     if foreign:  # e.g. "a stretch needs parallel planes" from a Bend

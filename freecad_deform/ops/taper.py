@@ -24,10 +24,30 @@ def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
     pp.check_crossing(solids, origin, normal, gap)
     if point is None:
         point = pp.section_centroid(solids, origin, normal)
+    _check_shrink(shape, scale, point, rows[2], tolerance)
     smap = taper_map(origin, normal, gap, scale, rows, point, profile)
     result, deviation = mapped.map_shape(shape, smap, tolerance)
     return result, {**pp.volume_change(result, shape), "MaxDeviation": deviation,
                     **mapped.continuity_report(shape, smap)}
+
+
+FOLD_MARGIN = 20.0  # the narrowest tapered width, in Tolerances, that refits keep unfolded
+
+
+def _check_shrink(shape, scale, point, axis, tolerance):
+    """A solid shrunk to a width of a few Tolerances gets refitted faces that fold (OCCT's
+    check: self-intersecting; a cylinder 16 mm across at Scale 0.001): refuse it."""
+    bb = shape.BoundBox
+    corners = np.array([(x, y, z) for x in (bb.XMin, bb.XMax) for y in (bb.YMin, bb.YMax)
+                        for z in (bb.ZMin, bb.ZMax)]) - point
+    width = np.linalg.norm(corners - np.outer(corners @ axis, axis), axis=1).max()
+    least = float(np.min(scale))
+    if 0 < least * width < FOLD_MARGIN * tolerance:
+        raise DeformError(f"Scale {least:g} would shrink the part to about {least * width:.3g} "
+                          f"mm across, within {FOLD_MARGIN:g} x Tolerance of nothing, where "
+                          f"refitted faces fold; keep Scale at "
+                          f"{FOLD_MARGIN * tolerance / width:.3g} or more (or lower "
+                          f"Tolerance).", "Scale")
 
 
 def mesh(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):
