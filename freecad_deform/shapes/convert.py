@@ -194,7 +194,8 @@ def points_array(points):
     elif not points.Placement.isIdentity():   # as points.Points gives them: placed in double
         m = matrix_array(points.Placement)
         pts = pts @ m[:3, :3].T + m[:3, 3]
-    return pts[np.isfinite(pts).all(axis=1)]
+    finite = np.isfinite(pts).all(axis=1)
+    return pts if finite.all() else pts[finite]
 
 
 def _saved_points(points):
