@@ -111,6 +111,30 @@ class PlaneOps(unittest.TestCase):
         self.assertAlmostEqual(far.YLength, 10.0, delta=1e-6)
         self.assertAlmostEqual(far.Center.x, 5.0, delta=1e-6)
 
+    def test_mesh_default_axis_is_the_section_area_centroid(self):
+        """A holed, L-shaped solid meshed: the mesh's default twist axis is the area centroid
+        of OCCT's section face of the solid (to the tessellation's error), whichever way
+        the normal points; the far part turns about it."""
+        import MeshPart
+        from freecad_deform.ops import planes as pp
+        solid = Part.makeBox(10, 20, 30).fuse(Part.makeBox(25, 6, 30)).cut(
+            Part.makeCylinder(2, 30, V(4, 12, 0))).removeSplitter()
+        mesh = MeshPart.meshFromShape(Shape=solid, LinearDeflection=0.01)
+        face = Part.makeFace(solid.slice(V(0, 0, 1), 10.0), "Part::FaceMakerBullseye")
+        want = np.array(tuple(face.CenterOfMass))
+        for normal in (Z, -Z):
+            got = pp.section_centroid_mesh(mesh, AT_10, normal)
+            np.testing.assert_allclose(got, want, atol=2e-3)
+        result, _ = twist.mesh(mesh, AT_10, Z, 10.0, np.radians(90))
+        far = np.array([tuple(p) for p in result.Topology[0]])
+        far = far[far[:, 2] > 20.5]
+        before = np.array([tuple(p) for p in mesh.Topology[0]])
+        before = before[before[:, 2] > 20.5]
+        turned = np.c_[want[0] - (before[:, 1] - want[1]), want[1] + (before[:, 0] - want[0]),
+                       before[:, 2]]
+        from scipy.spatial import cKDTree
+        self.assertLess(cKDTree(far).query(turned)[0].max(), 5e-3)
+
     def test_taper_points_scale_across_the_axis(self):
         cloud, pts = grid_cloud()
         centre = np.array([5.0, 10.0, 10.0])

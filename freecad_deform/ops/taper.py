@@ -54,7 +54,7 @@ def mesh(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):
     """(Mesh, {VolumeChange}): every vertex through the taper map."""
     v, t = mesh_arrays(base)
     if point is None:
-        point = pp.section_centroid_mesh(base, origin, normal)
+        point = pp.section_centroid_mesh(base, origin, normal, (v, t))
     smap = taper_map(origin, normal, gap, scale, rows, point, profile)
     return pp.mesh_result((v, t), smap(v), t)
 

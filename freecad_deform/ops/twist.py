@@ -35,7 +35,7 @@ def mesh(base, origin, normal, gap, angle, axis=None, samples=16):
     """(Mesh, {VolumeChange}): the region cut into `samples` slabs, each vertex turned by its
     fraction of the gap."""
     v, t = mesh_arrays(base)
-    axis = axis or (pp.section_centroid_mesh(base, origin, normal), normal)
+    axis = axis or (pp.section_centroid_mesh(base, origin, normal, (v, t)), normal)
     of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
     return pp.mesh_result((v, t), *mesh_sweep.map_between(v, t, origin, normal, gap, of_s,
                                                         samples, mesh_eps(v)))
