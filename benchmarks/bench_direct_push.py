@@ -97,6 +97,14 @@ def drag_rows(timer, n, frames=30):
              ms(frame), f"{1 / frame:.0f} frames/s")]
 
 
+def recompute(obj):
+    """One recompute of `obj` (touched), which must succeed."""
+    obj.touch()
+    obj.Document.recompute()
+    if "Invalid" in obj.State:
+        raise RuntimeError(obj.getStatusString())
+
+
 def recompute_rows(timer, n):
     doc = App.newDocument("BenchDirectPush")
     try:
@@ -108,12 +116,7 @@ def recompute_rows(timer, n):
         point = dp.surface_row(s, 0.43, 0.57) @ P
         obj = fd.make_direct_push(base, "Face1", V(*point), V(*(point + [0, 0, 3])))
 
-        def run():
-            obj.touch()
-            doc.recompute()
-            if "Invalid" in obj.State:
-                raise RuntimeError(obj.getStatusString())
-        t, runs = timer.median(run)
+        t, runs = timer.median(lambda: recompute(obj))
         t_op, runs_op = timer.median(lambda: push_op.face(
             base.Shape, "Face1", [V(*point)], [V(*(point + [0, 0, 3]))]))
         return [("document recompute", f"{n}x{n} poles, 1 push", runs, ms(t), ""),
@@ -157,12 +160,7 @@ def real_rows(timer):
             target = point + face.normalAt(*uv) * (0.02 * face.BoundBox.DiagonalLength)
             obj = fd.make_direct_push(base, f"Face{index + 1}", point, target)
 
-            def run():
-                obj.touch()
-                doc.recompute()
-                if "Invalid" in obj.State:
-                    raise RuntimeError(obj.getStatusString())
-            t, runs = timer.median(run)
+            t, runs = timer.median(lambda: recompute(obj))
             pushed = obj.Shape.Faces[index]
             landed = pushed.distToShape(Part.Vertex(target))[0]
             rows.append(("document recompute", label, runs, ms(t),

@@ -105,7 +105,21 @@ def _keep_unit(obj, p):
         setattr(obj, p.name, App.Units.Unit(p.unit))
 
 
-class DeformFeature:
+class Stateless:
+    """A proxy that saves nothing of its own (its object's properties hold everything):
+    FreeCAD stores None, never a pickle."""
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+
+    __getstate__ = dumps  # FreeCAD 0.20 calls these names
+    __setstate__ = loads
+
+
+class DeformFeature(Stateless):
     """Proxy base: properties added when missing (also on restore), JSON-only state.
 
     Subclasses list PROPERTIES and implement compute(obj, kind) -> (result, outputs):
@@ -165,15 +179,6 @@ class DeformFeature:
 
     def onDocumentRestored(self, obj):
         self.ensure_properties(obj)
-
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
-
-    __getstate__ = dumps  # FreeCAD 0.20 calls these names
-    __setstate__ = loads
 
     def execute(self, obj):
         with self.recording():

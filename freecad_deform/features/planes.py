@@ -22,6 +22,14 @@ USE_PLANE2 = Prop("App::PropertyBool", "UsePlane2", "Planes",
 PLANE2 = Prop("App::PropertyPlacement", "Plane2", "Planes",
               "Second separating plane, parallel to Plane and beyond it along the normal; used "
               "when UsePlane2 is true.")
+def region_plane2(what):
+    """Plane2 of a feature that always deforms the region between the planes (Twist,
+    Taper): `what` the region does."""
+    return Prop("App::PropertyPlacement", "Plane2", "Planes",
+                f"Second separating plane, parallel to Plane and beyond it along the normal: "
+                f"the region between the planes {what}.")
+
+
 AXIS = Prop("App::PropertyPlacement", "Axis", "Motion",
             "Axis of rotation: its position is a point on the axis, its local Z the direction "
             "(right-hand rule for Angle).")

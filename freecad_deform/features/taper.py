@@ -16,9 +16,7 @@ class Taper(DeformFeature):
     TYPE = "Taper"
     PROPERTIES = (
         ss.BASE, ss.PLANE,
-        Prop("App::PropertyPlacement", "Plane2", "Planes",
-             "Second separating plane, parallel to Plane and beyond it along the normal: the "
-             "region between the planes is tapered."),
+        ss.region_plane2("is tapered"),
         Prop("App::PropertyFloat", "Scale", "Motion",
              "Scale across the axis at Plane2 (1 at Plane); the part beyond Plane2 is scaled "
              "by it too.", 0.8),

@@ -14,9 +14,7 @@ class Twist(DeformFeature):
     TYPE = "Twist"
     PROPERTIES = (
         ss.BASE, ss.PLANE,
-        Prop("App::PropertyPlacement", "Plane2", "Planes",
-             "Second separating plane, parallel to Plane and beyond it along the normal: the "
-             "region between the planes twists."),
+        ss.region_plane2("twists"),
         Prop("App::PropertyQuantity", "Angle", "Motion",
              "How far the region twists about Axis (with Turns); any number of turns, where "
              "an angle property would stop at 360 deg.", unit="deg"),

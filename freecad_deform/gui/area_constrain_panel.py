@@ -17,7 +17,7 @@ from .bindings import bound_quantity, combo_box, on_value_changed, set_spin_valu
 from .coin_nodes import ControlNet
 from .compat import event_position
 from .task_panel import TaskPanelBase, is_invalid
-from .widgets import length_text, results_box
+from .widgets import length_text, pick_list, pick_toggle, results_box
 
 BASE_TRANSPARENCY = 70    # the old surface while the panel is open
 OUTPUTS = ("OriginalArea", "AchievedArea", "Iterations", "MaxPoleMove", "KKTResidual",
@@ -103,27 +103,15 @@ class AreaConstrainPanel(TaskPanelBase):
         return box
 
     def build_poles(self):
-        box = QtGui.QGroupBox("Poles")
-        box.setObjectName("PolesGroup")
-        box.setToolTip(self.obj.getDocumentationOfProperty("Poles"))
-        grid = QtGui.QGridLayout(box)
-        self.poles = QtGui.QListWidget()
-        self.poles.setObjectName("Poles")
-        self.poles.setMaximumHeight(70)
+        box, grid, self.poles = pick_list(self.obj, "Poles", 70)
         self.all_interior = QtGui.QPushButton("All interior")
         self.all_interior.setObjectName("AllInterior")
         self.all_interior.setToolTip("Let every interior pole move (Poles empty): the face's "
                                      "boundary stays, so it stays joined to its neighbours.")
         self.all_interior.clicked.connect(lambda: self.set_poles([]))
-        self.pick = QtGui.QPushButton("Pick poles")
-        self.pick.setObjectName("PickPoles")
-        self.pick.setCheckable(True)
-        self.pick.setToolTip("While on, a click on a pole of the control net in the 3D view "
-                             "adds it to the movable poles or removes it.")
-        self.pick.toggled.connect(self.set_picking)
-        self.hint = QtGui.QLabel()
-        self.hint.setObjectName("PickHint")
-        self.hint.setWordWrap(True)
+        self.pick, self.hint = pick_toggle(
+            "Pick poles", "PickPoles", "While on, a click on a pole of the control net in the "
+            "3D view adds it to the movable poles or removes it.", self.set_picking)
         grid.addWidget(self.poles, 0, 0, 1, 2)
         grid.addWidget(self.all_interior, 1, 0)
         grid.addWidget(self.pick, 1, 1)

@@ -19,7 +19,7 @@ from ..geometry.errors import DeformError
 from ..geometry.sweep.defaults import across
 from .bindings import combo_box, on_value_changed, quantity_spin_box, set_spin_value, spin_value
 from .task_panel import TaskPanelBase
-from .widgets import length_text, results_box
+from .widgets import length_text, pick_list, pick_toggle, results_box
 
 # What each picked point means, by Kind; Position takes further feature regions after these.
 ROLES = {"Distance": ("Moving plane", "Reference plane"), "Radius": ("Cylinder",),
@@ -169,28 +169,16 @@ class DimensionDrivePanel(TaskPanelBase):
         layout.addWidget(self.build_results())
 
     def build_regions(self):
-        box = QtGui.QGroupBox("Regions")
-        box.setObjectName("RegionsGroup")
-        box.setToolTip(self.obj.getDocumentationOfProperty("Regions"))
-        grid = QtGui.QGridLayout(box)
-        self.regions = QtGui.QListWidget()
-        self.regions.setObjectName("Regions")
-        self.regions.setMaximumHeight(90)
+        box, grid, self.regions = pick_list(self.obj, "Regions", 90)
         self.regions.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
         self.regions.currentRowChanged.connect(self.on_row)
-        self.pick = QtGui.QPushButton("Pick")
-        self.pick.setObjectName("PickRegions")
-        self.pick.setCheckable(True)
-        self.pick.setToolTip("While on, a click on the mesh in the 3D view sets the selected "
-                             "row; the regions are shown in colour.")
-        self.pick.toggled.connect(self.set_picking)
+        self.pick, self.hint = pick_toggle(
+            "Pick", "PickRegions", "While on, a click on the mesh in the 3D view sets the "
+            "selected row; the regions are shown in colour.", self.set_picking)
         clear = QtGui.QPushButton("Clear")
         clear.setObjectName("ClearRegions")
         clear.setToolTip("Forget the picked regions and pick them again.")
         clear.clicked.connect(self.on_clear)
-        self.hint = QtGui.QLabel()
-        self.hint.setObjectName("PickHint")
-        self.hint.setWordWrap(True)
         grid.addWidget(self.regions, 0, 0, 1, 2)
         grid.addWidget(self.pick, 1, 0)
         grid.addWidget(clear, 1, 1)

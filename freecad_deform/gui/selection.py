@@ -173,28 +173,26 @@ def _read(selection, axis):
 
 def picked_plane(selection):
     """The first planar face or datum plane in the selection, as a Placement, or None."""
-    for item in selection:
-        if is_datum_plane(item.Object):
-            return datum_plane(item.Object)
-        for name, sub in zip(item.SubElementNames, item.SubObjects):
-            if _face_sub(name):
-                plane = face_plane(sub)
-                if plane is not None:
-                    return plane
-    return None
+    return _first_picked(selection, is_datum_plane, datum_plane, _face_sub, face_plane)
 
 
 def picked_axis(selection):
     """The first straight edge or datum line in the selection, as (point, unit direction),
     or None."""
+    return _first_picked(selection, is_datum_line, datum_line, _edge_sub, edge_line)
+
+
+def _first_picked(selection, is_datum, of_datum, is_sub, of_sub):
+    """The first datum object (of_datum) or sub-element (of_sub, None when it does not
+    fit) in the selection, or None."""
     for item in selection:
-        if is_datum_line(item.Object):
-            return datum_line(item.Object)
+        if is_datum(item.Object):
+            return of_datum(item.Object)
         for name, sub in zip(item.SubElementNames, item.SubObjects):
-            if _edge_sub(name):
-                line = edge_line(sub)
-                if line is not None:
-                    return line
+            if is_sub(name):
+                found = of_sub(sub)
+                if found is not None:
+                    return found
     return None
 
 

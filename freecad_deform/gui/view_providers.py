@@ -8,6 +8,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 
 from .. import registry
+from ..features.base import Stateless
 from . import icon_path
 
 # Base view properties a new result takes over, so it looks like what it replaces.
@@ -46,7 +47,7 @@ def panel_class(obj):
     return registry.load(feature.panel_class)
 
 
-class ViewProviderDeform:
+class ViewProviderDeform(Stateless):
     """One view provider for every Deform feature; what differs comes from the proxy's TYPE."""
 
     def __init__(self, vobj):
@@ -105,12 +106,3 @@ class ViewProviderDeform:
             base.ViewObject.show()
         return True
 
-    # --- saving: nothing to save ---------------------------------------------------------------
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
-
-    __getstate__ = dumps  # FreeCAD 0.20 calls these names
-    __setstate__ = loads

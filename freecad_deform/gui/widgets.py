@@ -113,6 +113,33 @@ def results_box(obj, names):
     return box, lines
 
 
+def pick_list(obj, prop, height):
+    """(group, its grid, list widget): the list of what was picked for the list property
+    `prop` (Poles, Regions), named and explained as the property is."""
+    box = QtGui.QGroupBox(prop)
+    box.setObjectName(prop + "Group")
+    box.setToolTip(obj.getDocumentationOfProperty(prop))
+    grid = QtGui.QGridLayout(box)
+    items = QtGui.QListWidget()
+    items.setObjectName(prop)
+    items.setMaximumHeight(height)
+    return box, grid, items
+
+
+def pick_toggle(text, name, tip, toggled):
+    """(check button that turns picking in the 3D view on and off, the hint label beside
+    it)."""
+    button = QtGui.QPushButton(text)
+    button.setObjectName(name)
+    button.setCheckable(True)
+    button.setToolTip(tip)
+    button.toggled.connect(toggled)
+    hint = QtGui.QLabel()
+    hint.setObjectName("PickHint")
+    hint.setWordWrap(True)
+    return button, hint
+
+
 def show_texts(lines, texts):
     """Put texts[name] into lines[name], each shown from its start."""
     for name, text in texts.items():

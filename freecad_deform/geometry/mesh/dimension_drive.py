@@ -262,17 +262,25 @@ def _two_regions(model, regions, what):
     return labels
 
 
-def distance_drive(model, regions, target):
-    """DP: move the first picked plane along its normal so its distance to the second
-    (the reference) is `target`; the planes around it slide along their constraint vectors."""
+def _two_planes(model, regions, kind, moving, planes, advice):
+    """The region labels of the two points in `regions`, which must pick two different
+    planar regions: `moving` first, then the reference."""
     if len(regions) != 2:
-        raise DeformError("Regions: Distance needs two points, on the moving plane and on "
-                          "the reference plane.", "Regions")
-    a, b = _two_regions(model, regions, "pick two different parallel planes")
+        raise DeformError(f"Regions: {kind} needs two points, on {moving} and on the "
+                          f"reference plane.", "Regions")
+    a, b = _two_regions(model, regions, advice)
     for label, which in ((a, "first"), (b, "second")):
         if not model.planar[label]:
             raise DeformError(f"Regions: the {which} point picks a region that is not a plane; "
-                              "Distance needs two parallel planes.", "Regions")
+                              f"{kind} needs two {planes}.", "Regions")
+    return a, b
+
+
+def distance_drive(model, regions, target):
+    """DP: move the first picked plane along its normal so its distance to the second
+    (the reference) is `target`; the planes around it slide along their constraint vectors."""
+    a, b = _two_planes(model, regions, "Distance", "the moving plane", "parallel planes",
+                       "pick two different parallel planes")
     pa, pb = model.planes[a], model.planes[b]
     angle = np.arcsin(min(1.0, np.linalg.norm(np.cross(pa.normal, pb.normal))))
     if angle > PARALLEL:
@@ -439,14 +447,8 @@ def angle_drive(model, regions, target):
     degrees. The plane's vertices move along its normal by s times their distance from the
     hinge (the paper's constraint vectors, scaled): an affine map of the plane, which turns
     it by atan(s) exactly and keeps it a plane; the faces around it slide as for Distance."""
-    if len(regions) != 2:
-        raise DeformError("Regions: Angle needs two points, on the plane that turns and on "
-                          "the reference plane.", "Regions")
-    a, b = _two_regions(model, regions, "pick two planes that meet")
-    for label, which in ((a, "first"), (b, "second")):
-        if not model.planar[label]:
-            raise DeformError(f"Regions: the {which} point picks a region that is not a plane; "
-                              "Angle needs two planes.", "Regions")
+    a, b = _two_planes(model, regions, "Angle", "the plane that turns", "planes",
+                       "pick two planes that meet")
 
     def wedge(vertices, planes):
         (na, da), (nb, db) = planes
