@@ -1,4 +1,5 @@
 """Shared set-up of the headless FreeCAD tests: import FreeCAD (never skip), find the test data."""
+import contextlib
 import os
 import sys
 
@@ -26,3 +27,38 @@ def new_document(name="DeformTest"):
     doc = App.newDocument(name)
     doc.UndoMode = 1
     return doc
+
+
+RAISED = {}  # object name -> the exception its feature's last execute raised
+
+
+@contextlib.contextmanager
+def recorded_errors():
+    """Keep in RAISED the exception each feature's execute raises (FreeCAD keeps only its
+    text), so that a refusal (a DeformError, with its prop) is told apart from a crash."""
+    from freecad_deform import api  # noqa: F401  (loads every feature class)
+    from freecad_deform.features.base import DeformFeature
+    classes, todo = [], [DeformFeature]
+    while todo:
+        cls = todo.pop()
+        classes.append(cls)
+        todo += cls.__subclasses__()
+    saved = {cls: cls.__dict__["execute"] for cls in classes if "execute" in cls.__dict__}
+
+    def wrap(fn):
+        def execute(self, obj):
+            RAISED.pop(obj.Name, None)
+            try:
+                return fn(self, obj)
+            except BaseException as exc:
+                RAISED[obj.Name] = exc
+                raise
+        return execute
+
+    for cls, fn in saved.items():
+        cls.execute = wrap(fn)
+    try:
+        yield RAISED
+    finally:
+        for cls, fn in saved.items():
+            cls.execute = fn

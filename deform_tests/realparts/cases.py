@@ -1,21 +1,19 @@
 """The real-parts matrix (issue 10): every feature on every model of ../shared/testdata it
 applies to, each case checked by the oracles of oracles.py. test_matrix.py runs each case
 as a pytest test; matrix.py prints the table (`make realparts`)."""
-import contextlib
 import functools
 import time
 from typing import NamedTuple
 
 import numpy as np
 
+from ..features import fc
 from ..oracles import shapes as orc
 
 import FreeCAD as App  # noqa: E402
 import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
-from freecad_deform.features.base import DeformFeature  # noqa: E402
-from freecad_deform.features.dimension_drive import DimensionDrive  # noqa: E402
 from freecad_deform.geometry.errors import DeformError  # noqa: E402
 
 V = App.Vector
@@ -190,6 +188,111 @@ def run_brep(case, doc, floor):
     return Outcome("ok", "", errors, seconds, floor_s)
 
 
+# --- Smooth Twist, Bend and Taper of a region (issue 14) --------------------------------------
+FLEX = {"Twist": 20.0, "Bend": 30.0, "Taper": 0.8}   # degrees, degrees, scale at Plane2
+FLEX_REGION = (0.4, 0.6)   # the planes, as fractions of the longest bounding-box axis
+FLEX_SAMPLES = 120         # result points checked through the inverse map
+
+
+def flex_cases():
+    return [Case(f"smooth-{feature.lower()}-{_short(model)}", "flex", model, feature,
+                 {"value": value}) for model in BREP for feature, value in FLEX.items()]
+
+
+def smooth(t):
+    """The Smooth profile as the issue gives it: zero slope at both planes (3t^2 - 2t^3)."""
+    t = np.clip(t, 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def inverse_map(feature, value, pts, origin, n, gap, centre):
+    """Where the Smooth Twist or Taper took the points from: both keep s (the distance
+    along the normal), so the inverse is a turn by -angle(s) or a scaling by 1 / scale(s)
+    about the axis through `centre` along n (written here, not the code's space map)."""
+    s = (pts - origin) @ n
+    f = smooth(s / gap)
+    rel = pts - centre
+    along = rel @ n
+    across = rel - along[:, None] * n
+    if feature == "Taper":
+        return centre + along[:, None] * n + across / (1.0 + (value - 1.0) * f)[:, None]
+    u = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+    u /= np.linalg.norm(u)
+    w = np.cross(n, u)
+    x, y = across @ u, across @ w
+    a = -np.radians(value) * f
+    c, si = np.cos(a), np.sin(a)
+    return centre + along[:, None] * n + (c * x - si * y)[:, None] * u + (si * x + c * y)[:, None] * w
+
+
+def result_points(result, origin, n, count, seed=7):
+    """`count` points of the result's faces beyond Plane (tessellation nodes lie on the
+    faces' surfaces), drawn at random."""
+    pts = np.vstack([np.array([tuple(v) for v in f.tessellate(0.5)[0]]).reshape(-1, 3)
+                     for f in result.Faces])
+    pts = pts[(pts - origin) @ n > 0]
+    rng = np.random.default_rng(seed)
+    return pts[rng.choice(len(pts), min(count, len(pts)), replace=False)]
+
+
+def run_flex(case, doc, floor):
+    """A Smooth Twist, Bend or Taper of the region between 40 % and 60 % of the longest
+    axis: one valid solid per solid with its voids, Continuity and MaxDeviation reported,
+    MaxDeviation <= Tolerance; Twist and Taper: random points of the result mapped back by
+    the inverse map lie on the Base within Tolerance (distToShape); Bend: the far part
+    turned exactly, the near part untouched."""
+    shape = shape_of(case.model)
+    origin, n, length, side, side_extent = frame_of(box_of(shape), FLEX_REGION[0])
+    gap = (FLEX_REGION[1] - FLEX_REGION[0]) * length
+    base = doc.addObject("Part::Feature", "Base")
+    base.Shape = shape
+    size = shape.BoundBox.DiagonalLength
+    _, centre, _ = orc.section(shape, origin, n)
+    if centre is None:
+        centre = origin
+    plane, plane2 = (V(*origin), V(*n)), (V(*(origin + gap * n)), V(*n))
+    value = case.params["value"]
+    t0 = time.perf_counter()
+    if case.feature == "Twist":
+        obj = fd.make_twist(base, plane, plane2, value, axis=(V(*centre), V(*n)))
+    elif case.feature == "Taper":
+        obj = fd.make_taper(base, plane, plane2, value, axis=(V(*centre), V(*n)))
+    else:
+        # the axis beyond the part by gap / angle at least: the Smooth profile's steepest
+        # turn (1.5 x the mean) then outruns its pull back along the normal (at r < gap / (3
+        # angle) from the axis the map folds the region, and the bend is refused)
+        lo, hi = side_extent
+        margin = max(0.25 * (hi - lo), gap / np.radians(value))
+        axis_point = origin + (hi + margin - origin @ side) * side
+        axis_dir = np.cross(n, side)
+        obj = fd.make_bend(base, plane, value, (V(*axis_point), V(*axis_dir)), plane2=plane2)
+    obj.Profile = "Smooth"
+    doc.recompute()
+    seconds = time.perf_counter() - t0
+    status, message = outcome_of(obj)
+    if status != "ok":
+        return Outcome(status, message, {}, seconds)
+    result, tol = obj.Shape, obj.Tolerance.Value
+    errors = {"valid": (0.0 if result.isValid() else 1.0, 0.5),
+              "solids": (abs(len(result.Solids) - len(shape.Solids)), 0.5),
+              "shells": (0.0 if orc.shells_per_solid(result) == orc.shells_per_solid(shape)
+                         else 1.0, 0.5),
+              "Continuity": (0.0 if obj.Continuity else 1.0, 0.5),
+              "MaxDeviation": (obj.MaxDeviation / tol, 1.0)}
+    if case.feature == "Bend":
+        motion = orc.rotation(axis_point, axis_dir, value) @ orc.translation(-gap * n)
+        before = orc.away_parts(shape, origin, n, gap, 1e-3 * size)
+        missing, worst = orc.unchanged_parts(before, result, motion, 1e-6 * size)
+        errors["away faces"] = (missing + worst, 0.5)
+    else:
+        pts = result_points(result, origin, n, FLEX_SAMPLES)
+        back = inverse_map(case.feature, value, pts, origin, n, gap, centre)
+        compound = Part.makeCompound([Part.Vertex(V(*p)) for p in back])
+        far = max(shape.distToShape(Part.Vertex(v.Point))[0] for v in compound.Vertexes)
+        errors["inverse map"] = (far / tol, 1.0)
+    return Outcome("ok", "", errors, seconds)
+
+
 # --- meshes and point clouds: Stretch, Bend, Twist ------------------------------------------
 MESHES = ("fandisk.obj", "occt_TR12J_OCC.stl", "occt_sh2.stl", "trimesh_counter.unitsmm.STL")
 SCANS = ("pcl_milk.pcd", "pcl_table_scene_mug_stereo_textured.pcd", "pcl_lamppost.pcd")
@@ -247,6 +350,15 @@ def apply_edit(case, base, box):
     return obj, origin, n, motion, gap, axis, length
 
 
+def timed_edit(case, base, box):
+    """(what apply_edit gives, its seconds, None or the Outcome of a refusal or failure)."""
+    t0 = time.perf_counter()
+    edit = apply_edit(case, base, box)
+    seconds = time.perf_counter() - t0
+    status, message = outcome_of(edit[0])
+    return edit, seconds, None if status == "ok" else Outcome(status, message, {}, seconds)
+
+
 def rigid_parts(before, after, origin, n, motion, gap, tol):
     """Worst distance from where the points away from the edit must be (kept before the
     plane, moved by `motion` beyond `gap`) to the nearest point of the result."""
@@ -268,12 +380,9 @@ def run_mesh(case, doc, floor):
     base.Mesh = mesh
     box = box_of(mesh)
     size = float(np.linalg.norm(box[1] - box[0]))
-    t0 = time.perf_counter()
-    obj, origin, n, motion, gap, axis, length = apply_edit(case, base, box)
-    seconds = time.perf_counter() - t0
-    status, message = outcome_of(obj)
-    if status != "ok":
-        return Outcome(status, message, {}, seconds)
+    (obj, origin, n, motion, gap, axis, length), seconds, refused = timed_edit(case, base, box)
+    if refused:
+        return refused
     V0, T0 = arrays(mesh)
     V1, T1 = arrays(obj.Mesh)
     area, centroid, (p, q) = mo.mesh_section(V0, T0, origin, n, segments=True)
@@ -314,12 +423,9 @@ def run_points(case, doc, floor):
     P = P0[finite]
     box = (P.min(axis=0), P.max(axis=0))
     size = float(np.linalg.norm(box[1] - box[0]))
-    t0 = time.perf_counter()
-    obj, origin, n, motion, gap, axis, length = apply_edit(case, base, box)
-    seconds = time.perf_counter() - t0
-    status, message = outcome_of(obj)
-    if status != "ok":
-        return Outcome(status, message, {}, seconds)
+    (obj, origin, n, motion, gap, axis, length), seconds, refused = timed_edit(case, base, box)
+    if refused:
+        return refused
     out = np.array([tuple(p) for p in obj.Points.Points], float)
     errors = {"IgnoredPoints": (abs(obj.IgnoredPoints - int((~finite).sum())), 0.5),
               "NaN in result": (float((~np.isfinite(out)).any()), 0.5)}
@@ -643,51 +749,24 @@ def run_surface(case, doc, floor):
 
 
 # --- running a case -------------------------------------------------------------------------
-_RAISED = {}
-
-
-@contextlib.contextmanager
-def recorded_errors():
-    """Keep the exception each feature's execute raised (FreeCAD keeps only its text), so a
-    DeformError (a refusal) is told apart from a crash."""
-    saved = {cls: cls.__dict__["execute"] for cls in (DeformFeature, DimensionDrive)}
-
-    def wrap(fn):
-        def execute(self, obj):
-            _RAISED.pop(obj.Name, None)
-            try:
-                return fn(self, obj)
-            except Exception as exc:
-                _RAISED[obj.Name] = exc
-                raise
-        return execute
-
-    for cls, fn in saved.items():
-        cls.execute = wrap(fn)
-    try:
-        yield
-    finally:
-        for cls, fn in saved.items():
-            cls.execute = fn
-
-
 def outcome_of(obj):
     """("ok", "") or ("refused", message) for a DeformError, else ("FAILED", what)."""
     if "Invalid" not in obj.State:
         return "ok", ""
-    exc = _RAISED.get(obj.Name)
+    exc = fc.RAISED.get(obj.Name)
     if isinstance(exc, DeformError):
         return "refused", str(exc)
     what = f"{type(exc).__name__}: {exc}" if exc is not None else obj.getStatusString()
     return "FAILED", what
 
 
-RUNNERS = {"brep": run_brep, "mesh": run_mesh, "points": run_points,
+RUNNERS = {"brep": run_brep, "flex": run_flex, "mesh": run_mesh, "points": run_points,
            "dimension": run_dimension, "surface": run_surface}
 
 
 def all_cases():
-    return brep_cases() + discrete_cases() + dimension_cases() + surface_cases()
+    return (brep_cases() + flex_cases() + discrete_cases() + dimension_cases()
+            + surface_cases())
 
 
 def run(case, floor=False):
@@ -696,7 +775,7 @@ def run(case, floor=False):
     doc.UndoMode = 0
     t0 = time.perf_counter()
     try:
-        with recorded_errors():
+        with fc.recorded_errors():
             return RUNNERS[case.group](case, doc, floor)
     except Exception as exc:  # a crash of the case is reported, never hides the rest
         return Outcome("FAILED", f"{type(exc).__name__}: {exc}", {}, time.perf_counter() - t0)

@@ -35,6 +35,7 @@ import numpy as np  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features import base as fbase  # noqa: E402
 from freecad_deform.geometry.errors import DeformError  # noqa: E402
+from deform_tests.features import fc  # noqa: E402
 from deform_tests.oracles.shapes import (closed_mesh, section_area_centroid, solid_volume,  # noqa: E402
                                          surface_area, volume_noise)
 
@@ -51,37 +52,6 @@ FEATURE = {"Stretch": "stretch", "Bend": "bend", "Twist": "twist", "Taper": "tap
            "DirectPush": "direct_push"}
 UNBOUNDED = ("Reachable",)
 EMPTY_MEANS_ALL = ("Poles",)  # AreaConstrain: no Poles listed frees every interior pole
-ERRORS = {}  # object name -> (exception type, prop, message) of its last execute
-
-
-def _record(execute):
-    def wrapped(self, obj):
-        ERRORS.pop(obj.Name, None)
-        try:
-            return execute(self, obj)
-        except BaseException as e:
-            ERRORS[obj.Name] = (type(e).__name__, getattr(e, "prop", None), str(e))
-            raise
-    return wrapped
-
-
-def _watch_features():
-    """Record the exception of every feature's execute (this process only)."""
-    classes = {fbase.DeformFeature}
-    todo = [fbase.DeformFeature]
-    from freecad_deform import api
-    while todo:
-        for sub in todo.pop().__subclasses__():
-            classes.add(sub)
-            todo.append(sub)
-    del api
-    for cls in classes:
-        if "execute" in cls.__dict__:
-            cls.execute = _record(cls.__dict__["execute"])
-
-
-# ---------------------------------------------------------------- bases
-
 def _compound():
     """A box, a free face beside it and a loose wire."""
     face = Part.Face(Part.makePolygon([V(-20, 15, -5), V(20, 15, -5), V(20, 15, 5),
@@ -427,7 +397,8 @@ def refusal_problem(obj, case):
     """None for a clean refusal: our DeformError, naming a property of the object that the
     message contains (one of expected(obj) when the object has a sure cause)."""
     message = obj.getStatusString()
-    kind, prop, text = ERRORS.get(obj.Name, (None, None, message))
+    exc = fc.RAISED.get(obj.Name)
+    kind, prop = (None, None) if exc is None else (type(exc).__name__, getattr(exc, "prop", None))
     names = set(obj.PropertiesList)
     if not message.strip():
         return "empty status message"
@@ -641,9 +612,9 @@ def _step(doc, obj, step, case, bases, names, problem):
 
 def main():
     case = json.loads(sys.argv[1])
-    _watch_features()
     try:
-        out, default = run(case)
+        with fc.recorded_errors():
+            out, default = run(case)
     except Exception:
         out, default = {"problems": [("runner_error", traceback.format_exc()[-600:])]}, None
     classes = [c for c, _ in out["problems"]] + ([default] if default else [])
