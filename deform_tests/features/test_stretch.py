@@ -392,7 +392,7 @@ class StretchFolded(unittest.TestCase):
         kinds = dict(e.split(": ") for e in folded.Continuity.split("; "))
         self.assertEqual(set(kinds.values()), {"G1"})
         self.assertEqual(len(kinds), 4)  # bottom, top, and the two sides y = 0 and y = 60
-        # the notch lies on the near side of the folded surface: untouched, its apex in place
+        # the notch lies on the near side of the Polyline's surface: untouched, its apex in place
         apex = [v for v in result.Vertexes if abs(v.Point.y - 45) < 1e-9 and v.Point.z == 0]
         self.assertEqual([round(v.Point.x, 9) for v in apex], [100.0])
 

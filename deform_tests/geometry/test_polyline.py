@@ -4,7 +4,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from freecad_deform.geometry import DeformError
-from freecad_deform.geometry.nurbs.polyline import FoldedSurface
+from freecad_deform.geometry.sweep.polyline import PolylineSurface
 
 N = np.array([1.0, 0, 0])
 V_SHAPE = [[90, -10, 0], [90, 30, 0], [140, 50, 0], [140, 70, 0]]  # in the xy plane
@@ -12,7 +12,7 @@ V_SHAPE = [[90, -10, 0], [90, 30, 0], [140, 50, 0], [140, 70, 0]]  # in the xy p
 
 @given(st.floats(-10, 70), st.floats(-100, 100), st.floats(-50, 50))
 def test_offset_is_distance_along_normal_to_the_polyline(y, dx, z):
-    surface = FoldedSurface(V_SHAPE, N)
+    surface = PolylineSurface(V_SHAPE, N)
     # the polyline's x at lateral y, by hand: 90 up to y=30, then linear to 140 at y=50
     x_at = 90.0 if y <= 30 else (140.0 if y >= 50 else 90 + (y - 30) * 50 / 20)
     p = np.array([[x_at + dx, y, z]])
@@ -20,7 +20,7 @@ def test_offset_is_distance_along_normal_to_the_polyline(y, dx, z):
 
 
 def test_order_reversed_and_segment_normals():
-    surface = FoldedSurface(V_SHAPE[::-1], N)
+    surface = PolylineSurface(V_SHAPE[::-1], N)
     planes = surface.segment_planes()
     assert len(planes) == 3
     for origin, normal in planes:
@@ -36,5 +36,5 @@ def test_order_reversed_and_segment_normals():
 ])
 def test_bad_polylines_name_the_property(points):
     with pytest.raises(DeformError) as err:
-        FoldedSurface(points, N)
+        PolylineSurface(points, N)
     assert err.value.prop == "Polyline"

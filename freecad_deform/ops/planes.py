@@ -40,7 +40,7 @@ def joint_report(shape, joints):
 
     `joints` are (origin, normal, tangents[, keep]) with tangents(points) the trajectory
     tangents of the joint points and keep(points) an optional mask of the points that lie
-    on the joint (a segment of a folded surface); a face is G1 only if it is G1 at every
+    on the joint (a segment of a Polyline's surface); a face is G1 only if it is G1 at every
     joint it crosses.
     """
     worst = {}

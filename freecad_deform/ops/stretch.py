@@ -1,6 +1,6 @@
 """Stretch (Wu & Ilies, Cases 1 to 3): split at a plane, move the far part along the normal
 by `distance`, fill the gap with the section swept; between two planes (`gap` beyond the
-first) the region is stretched, its cross-sections kept; Case 3 splits at a folded surface.
+first) the region is stretched, its cross-sections kept; Case 3 splits at the surface the Polyline extrudes.
 
 solid(shape, ...), folded(shape, ...), mesh(mesh, ...) and points(cloud, ...) give
 (result, outputs); stretch_shape is the B-rep pipeline alone.
@@ -9,7 +9,7 @@ import numpy as np
 
 from ..geometry.errors import DeformError
 from ..geometry.mesh.stretch import stretch_mesh
-from ..geometry.nurbs.polyline import FoldedSurface
+from ..geometry.sweep.polyline import PolylineSurface
 from ..geometry.points.stretch import stretch_points
 from ..geometry.sweep import space_map
 from ..shapes import brep, mapped
@@ -50,7 +50,7 @@ def folded(shape, polyline, normal, distance):
     """(shape, {VolumeChange, Continuity, SplitFaces}) of Case 3: split at the surface that
     extrudes the `polyline` corners (in a plane containing `normal`), the far part moved by
     distance * normal, the gap the folded section extruded."""
-    surface = FoldedSurface([tuple(p) for p in polyline], normal)
+    surface = PolylineSurface([tuple(p) for p in polyline], normal)
     result = stretch_folded(shape, surface, distance)
     u = surface.lateral_axis
     lows = np.r_[-np.inf, surface.lateral[1:-1]]  # the end segments extend outward
@@ -62,10 +62,10 @@ def folded(shape, polyline, normal, distance):
 
 
 def stretch_folded(shape, surface, distance):
-    """Case 3: each solid split at the folded surface, the far part moved, the gap extruded."""
+    """Case 3: each solid split at the Polyline's surface, the far part moved, the gap extruded."""
     move = distance * surface.normal
 
-    def joints(pts):  # on the folded surface, or on its moved copy
+    def joints(pts):  # on the Polyline's surface, or on its moved copy
         off = surface.offset(pts)
         return bool(np.all(np.abs(off) < 1e-7) or np.all(np.abs(off - distance) < 1e-7))
 

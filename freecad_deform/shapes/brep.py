@@ -236,7 +236,7 @@ def split_by(solid, tools, offset, offsets):
 
 
 def folded_sheet(shape, surface, shift=0.0):
-    """The faces of a FoldedSurface (moved `shift` along its normal), wide enough for `shape`."""
+    """The faces of a PolylineSurface (moved `shift` along its normal), wide enough for `shape`."""
     size = shape.BoundBox.DiagonalLength + 1.0
     pts = surface.points + shift * surface.normal
     ends = surface.lateral_axis * size
@@ -266,7 +266,7 @@ def faces_on_plane(solids, origin, normal):
 
 
 def faces_on_surface(solids, surface):
-    """Faces of `solids` lying on a FoldedSurface (the section faces a Case 3 split made)."""
+    """Faces of `solids` lying on a PolylineSurface (the section faces a Case 3 split made)."""
     return [face for solid in solids for face in solid.Faces
             if isinstance(face.Surface, Part.Plane) and np.all(np.abs(surface.offset(
                 np.array([tuple(v.Point) for v in face.Vertexes]))) < TOL)]

@@ -18,6 +18,7 @@ import Part
 
 from ..geometry.sweep import continuity
 from ..geometry.nurbs import surface_fit
+from ..geometry.nurbs.direct_push import knots_and_mults
 from ..geometry.errors import DeformError
 from ..geometry.vectors import unit
 from . import brep, bspline
@@ -455,8 +456,8 @@ def _breaks(surface, a, b, direction, most=64):
 def bspline_surface(fit):
     """A Part.BSplineSurface from a SurfaceFit."""
     import FreeCAD as App
-    uk, um = _knots_mults(fit.uknots)
-    vk, vm = _knots_mults(fit.vknots)
+    uk, um = knots_and_mults(fit.uknots)
+    vk, vm = knots_and_mults(fit.vknots)
     poles = [[App.Vector(*p) for p in row] for row in fit.poles.tolist()]
     s = Part.BSplineSurface()
     s.buildFromPolesMultsKnots(poles, um, vm, uk, vk, False, False, fit.degree, fit.degree)
@@ -466,16 +467,11 @@ def bspline_surface(fit):
 def bspline_curve2d(fit):
     """A Geom2d B-spline curve from a CurveFit of 2D values."""
     import FreeCAD as App
-    knots, mults = _knots_mults(fit.knots)
+    knots, mults = knots_and_mults(fit.knots)
     c = Part.Geom2d.BSplineCurve2d()
     c.buildFromPolesMultsKnots([App.Base.Vector2d(*p) for p in fit.poles.tolist()], mults,
                                knots, False, fit.degree)
     return c
-
-
-def _knots_mults(full):
-    knots, mults = np.unique(np.asarray(full, float), return_counts=True)
-    return knots.tolist(), [int(m) for m in mults]
 
 
 def face_on_pcurves(surface, face, pcurve):
@@ -623,7 +619,7 @@ def _loose(parts, smap, tol):
 
 def _curve3d(fit):
     import FreeCAD as App
-    knots, mults = _knots_mults(fit.knots)
+    knots, mults = knots_and_mults(fit.knots)
     c = Part.BSplineCurve()
     c.buildFromPolesMultsKnots([App.Vector(*p) for p in fit.poles.tolist()], mults, knots,
                                False, fit.degree)

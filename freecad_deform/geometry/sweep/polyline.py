@@ -3,10 +3,10 @@ extruded perpendicular to its own plane (Fig. 4 and 13)."""
 import numpy as np
 
 from ..errors import DeformError
-from ..sweep.planes import unit_normal
+from .planes import unit_normal
 
 
-class FoldedSurface:
+class PolylineSurface:
     """The polyline `points` extruded along the normal of its plane.
 
     `normal` (the motion direction, toward the moving part) must lie in the polyline's
