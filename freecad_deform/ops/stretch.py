@@ -1,6 +1,7 @@
 """Stretch (Wu & Ilies, Cases 1 to 3): split at a plane, move the far part along the normal
 by `distance`, fill the gap with the section swept; between two planes (`gap` beyond the
-first) the region is stretched, its cross-sections kept; Case 3 splits at the surface the Polyline extrudes.
+first) the region is stretched, its cross-sections kept; Case 3 splits at the surface the
+Polyline extrudes.
 
 solid(shape, ...), folded(shape, ...), mesh(mesh, ...) and points(cloud, ...) give
 (result, outputs); stretch_shape is the B-rep pipeline alone.
