@@ -31,7 +31,7 @@ class Stretch(DeformFeature):
             if kind != "Part" or obj.UsePlane2:
                 raise DeformError("A Polyline separating surface works on solids with one "
                                   "surface; clear Polyline or UsePlane2.", "Polyline")
-            return stretch.folded(obj.Base.Shape, obj.Polyline, normal, distance)
+            return stretch.polyline(obj.Base.Shape, obj.Polyline, normal, distance)
         motion = ss.key_motion(obj, mo.translation(distance * normal))
         if motion is not None:
             return ss.keyed(obj, kind, origin, normal, gap, motion)

@@ -3,7 +3,7 @@ by `distance`, fill the gap with the section swept; between two planes (`gap` be
 first) the region is stretched, its cross-sections kept; Case 3 splits at the surface the
 Polyline extrudes.
 
-solid(shape, ...), folded(shape, ...), mesh(mesh, ...) and points(cloud, ...) give
+solid(shape, ...), polyline(shape, ...), mesh(mesh, ...) and points(cloud, ...) give
 (result, outputs); stretch_shape is the B-rep pipeline alone.
 """
 import numpy as np
@@ -47,12 +47,12 @@ def points(base, origin, normal, distance, gap=None):
     return points_from_array(stretch_points(pts, origin, normal, distance, *second)), ignored
 
 
-def folded(shape, polyline, normal, distance):
+def polyline(shape, points, normal, distance):
     """(shape, {VolumeChange, Continuity, SplitFaces}) of Case 3: split at the surface that
-    extrudes the `polyline` corners (in a plane containing `normal`), the far part moved by
-    distance * normal, the gap the folded section extruded."""
-    surface = PolylineSurface([tuple(p) for p in polyline], normal)
-    result = stretch_folded(shape, surface, distance)
+    extrudes the Polyline's corners `points` (in a plane containing `normal`), the far part
+    moved by distance * normal, the gap the folded section extruded."""
+    surface = PolylineSurface([tuple(p) for p in points], normal)
+    result = stretch_polyline(shape, surface, distance)
     u = surface.lateral_axis
     lows = np.r_[-np.inf, surface.lateral[1:-1]]  # the end segments extend outward
     highs = np.r_[surface.lateral[1:-1], np.inf]
@@ -62,7 +62,7 @@ def folded(shape, polyline, normal, distance):
     return result, {**pp.volume_change(result, shape), **pp.joint_report(shape, joints)}
 
 
-def stretch_folded(shape, surface, distance):
+def stretch_polyline(shape, surface, distance):
     """Case 3: each solid split at the Polyline's surface, the far part moved, the gap extruded."""
     move = distance * surface.normal
 
@@ -72,13 +72,14 @@ def stretch_folded(shape, surface, distance):
 
     def solid_fn(solid):
         if distance > 0:
-            near, far = brep.split_by(solid, [brep.folded_sheet(solid, surface)],
+            near, far = brep.split_by(solid, [brep.polyline_sheet(solid, surface)],
                                       surface.offset, [0.0])
             cut = brep.faces_on_surface(near, surface)
             pieces = near + brep.extruded(cut, move) + brep.translated(far, move)
             return brep.join(pieces, joints, "Polyline")
         near, slab, far = brep.split_by(
-            solid, [brep.folded_sheet(solid, surface), brep.folded_sheet(solid, surface, -distance)],
+            solid, [brep.polyline_sheet(solid, surface),
+                    brep.polyline_sheet(solid, surface, -distance)],
             surface.offset, [0.0, -distance])
         if near and slab and not far:
             raise DeformError(f"Distance {distance:g} shrinks past the end of the part; reduce "

@@ -235,7 +235,7 @@ def split_by(solid, tools, offset, offsets):
     return zones
 
 
-def folded_sheet(shape, surface, shift=0.0):
+def polyline_sheet(shape, surface, shift=0.0):
     """The faces of a PolylineSurface (moved `shift` along its normal), wide enough for `shape`."""
     size = shape.BoundBox.DiagonalLength + 1.0
     pts = surface.points + shift * surface.normal
