@@ -122,7 +122,7 @@ class Stateless:
 class DeformFeature(Stateless):
     """Proxy base: properties added when missing (also on restore), JSON-only state.
 
-    Subclasses list PROPERTIES and implement compute(obj, kind) -> (result, outputs):
+    Subclasses list PROPERTIES and implement compute(obj, base_kind) -> (result, outputs):
     the new Shape, Mesh or Points and a dict of output property values. Bad input raises
     DeformError naming the property to change; FreeCAD then marks the object in error
     and keeps its last good result. The Base is only read.
@@ -198,5 +198,5 @@ class DeformFeature(Stateless):
         for name, value in outputs.items():
             setattr(obj, name, value)
 
-    def compute(self, obj, kind):
+    def compute(self, obj, base_kind):
         raise NotImplementedError

@@ -15,17 +15,17 @@ class Bend(DeformFeature):
                   ss.KEYS, ss.INTERPOLATION, ss.SAMPLES) + ss.RESULTS + flex.PROPERTIES + (
                       flex.MAX_DEVIATION,)
 
-    def compute(self, obj, kind):
+    def compute(self, obj, base_kind):
         origin, normal, gap = ss.planes(obj)
         axis = plane_arrays(obj.Axis)
         angle = np.radians(obj.Angle.Value)
         ss.check_samples(obj, 1)
         motion = ss.key_motion(obj, mo.rotation(*axis, angle))
         if motion is not None:
-            return ss.keyed(obj, kind, origin, normal, gap, motion)
-        if kind == "Points":
+            return ss.keyed(obj, base_kind, origin, normal, gap, motion)
+        if base_kind == "Points":
             return bend.points(obj.Base.Points, origin, normal, angle, axis, gap)
-        if kind == "Mesh":
+        if base_kind == "Mesh":
             return bend.mesh(obj.Base.Mesh, origin, normal, angle, axis, gap, obj.Samples)
         return bend.solid(obj.Base.Shape, origin, normal, angle, axis, gap, obj.Samples,
                           obj.Profile, flex.tolerance(obj))

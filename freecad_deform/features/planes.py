@@ -108,15 +108,15 @@ def key_motion(obj, final):
     return mo.key_motion(keys, obj.Interpolation)
 
 
-def keyed(obj, kind, origin, normal, gap, motion):
+def keyed(obj, base_kind, origin, normal, gap, motion):
     """Result and outputs of a Case 1 deformation by a key motion (ops.keyed), for every
     kind of Base."""
     if gap is not None:
         raise DeformError("KeyPlacements move the part beyond one Plane; clear KeyPlacements "
                           "or UsePlane2.", "KeyPlacements")
     check_samples(obj, 2)
-    if kind == "Points":
+    if base_kind == "Points":
         return ops_keyed.points(obj.Base.Points, origin, normal, motion)
-    if kind == "Mesh":
+    if base_kind == "Mesh":
         return ops_keyed.mesh(obj.Base.Mesh, origin, normal, motion, obj.Samples)
     return ops_keyed.solid(obj.Base.Shape, origin, normal, motion, obj.Samples)

@@ -22,21 +22,21 @@ class Stretch(DeformFeature):
         ss.KEYS, ss.INTERPOLATION, ss.USE_END, ss.END, ss.SAMPLES, flex.TOLERANCE,
     ) + ss.RESULTS + (flex.MAX_DEVIATION,)
 
-    def compute(self, obj, kind):
+    def compute(self, obj, base_kind):
         origin, normal, gap = ss.planes(obj)
         distance = obj.Distance.Value
         if abs(distance) <= brep.TOL:  # below the modelling tolerance nothing moves
             distance = 0.0
         if len(obj.Polyline) > 0:
-            if kind != "Part" or obj.UsePlane2:
+            if base_kind != "Part" or obj.UsePlane2:
                 raise DeformError("A Polyline separating surface works on solids with one "
                                   "surface; clear Polyline or UsePlane2.", "Polyline")
             return stretch.polyline(obj.Base.Shape, obj.Polyline, normal, distance)
         motion = ss.key_motion(obj, mo.translation(distance * normal))
         if motion is not None:
-            return ss.keyed(obj, kind, origin, normal, gap, motion)
-        if kind == "Points":
+            return ss.keyed(obj, base_kind, origin, normal, gap, motion)
+        if base_kind == "Points":
             return stretch.points(obj.Base.Points, origin, normal, distance, gap)
-        if kind == "Mesh":
+        if base_kind == "Mesh":
             return stretch.mesh(obj.Base.Mesh, origin, normal, distance, gap)
         return stretch.solid(obj.Base.Shape, origin, normal, distance, gap, flex.tolerance(obj))

@@ -33,17 +33,17 @@ class Taper(DeformFeature):
              "centroid of the cross-section at Plane.", False),
         ss.AXIS) + flex.PROPERTIES + ss.RESULTS + (flex.MAX_DEVIATION,)
 
-    def compute(self, obj, kind):
+    def compute(self, obj, base_kind):
         origin, normal, gap = ss.planes(obj, require_plane2=True)
         scale = (obj.ScaleX, obj.ScaleY) if obj.UseScaleXY else obj.Scale
         # the axis frame: Axis's, or Plane's about the section centroid (point None)
         frame = obj.Axis if obj.UseAxis else obj.Plane
         rows = np.array(frame.Rotation.toMatrix().A, float).reshape(4, 4)[:3, :3].T
         point = plane_arrays(obj.Axis)[0] if obj.UseAxis else None
-        if kind == "Points":
+        if base_kind == "Points":
             return taper.points(obj.Base.Points, origin, normal, gap, scale, rows, point,
                                 obj.Profile)
-        if kind == "Mesh":
+        if base_kind == "Mesh":
             return taper.mesh(obj.Base.Mesh, origin, normal, gap, scale, rows, point,
                               obj.Profile)
         return taper.solid(obj.Base.Shape, origin, normal, gap, scale, rows, point,

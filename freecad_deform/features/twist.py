@@ -25,14 +25,14 @@ class Twist(DeformFeature):
              "cross-section at Plane.", False),
         ss.AXIS, ss.SAMPLES) + ss.RESULTS + flex.PROPERTIES + (flex.MAX_DEVIATION,)
 
-    def compute(self, obj, kind):
+    def compute(self, obj, base_kind):
         origin, normal, gap = ss.planes(obj, require_plane2=True)
         angle = np.radians(obj.Angle.Value + 360.0 * obj.Turns)
         ss.check_samples(obj, 2)
         axis = given_axis(obj, normal)
-        if kind == "Points":
+        if base_kind == "Points":
             return twist.points(obj.Base.Points, origin, normal, gap, angle, axis)
-        if kind == "Mesh":
+        if base_kind == "Mesh":
             return twist.mesh(obj.Base.Mesh, origin, normal, gap, angle, axis, obj.Samples)
         return twist.solid(obj.Base.Shape, origin, normal, gap, angle, axis, obj.Samples,
                            obj.Profile, flex.tolerance(obj))
