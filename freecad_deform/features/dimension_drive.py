@@ -61,6 +61,11 @@ class DimensionDrive(DeformFeature):
              "coarser spreads the change wider. 0: 0.5 % of the mesh size.", 0.0),
         Prop("App::PropertyLength", "Tolerance", "Handle",
              "Tessellation tolerance when Base is a solid.", 0.1),
+        Prop("App::PropertyBool", "Rehandle", "Handle",
+             "Beyond Reachable, go on in steps: after each, rebuild the handle around the "
+             "shape reached (same vertices and triangles, the vertices inside planes "
+             "evened out) until Target is met or no step gains (the paper's dynamic handle).",
+             False),
         Prop("App::PropertyFloat", "Current", "Result",
              "The dimension measured on the Base, in mm (Position: its u).", output=True),
         Prop("App::PropertyFloat", "CurrentV", "Result",
@@ -72,6 +77,9 @@ class DimensionDrive(DeformFeature):
         Prop("App::PropertyFloatList", "Reachable", "Result",
              "How far the dimension can go before a triangle flips: [lowest, highest] value; "
              "for Position, [back, forward] travel in mm along the move.", output=True),
+        Prop("App::PropertyInteger", "Handles", "Result",
+             "How many handles the drive used: 1, or more when Rehandle went beyond "
+             "Reachable.", output=True),
         Prop("App::PropertyInteger", "RegionCount", "Result",
              "Number of regions the mesh was segmented into.", output=True),
         Prop("App::PropertyColorList", "RegionColors", "Result",
@@ -134,7 +142,7 @@ class DimensionDrive(DeformFeature):
                               obj.TargetAngle.Value)
         try:
             result, outputs = self.drive(model, mesh, obj.Kind, obj.Regions, target,
-                                         obj.Origin, obj.AxisPoint)
+                                         obj.Origin, obj.AxisPoint, obj.Rehandle)
         except DeformError as e:
             for name, value in getattr(e, "outputs", {}).items():
                 setattr(obj, name, value)

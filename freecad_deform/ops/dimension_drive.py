@@ -69,9 +69,12 @@ def _values(name, value):
     return {name: float(value[0]), name + "V": float(value[1]) if len(value) > 1 else 0.0}
 
 
-def _moved(model, drive, deformed, kind, regions, target, origin, axis_point):
-    """(moved vertices, outputs) of one drive: Current(V), Reachable, Achieved(V), and
-    Strained (the corners that could not keep all their planes and cylinders)."""
+def _moved(model, drive, deformed, kind, regions, target, origin, axis_point,
+           rehandle=False):
+    """(moved vertices, outputs) of one drive: Current(V), Reachable, Achieved(V), Handles
+    and Strained (the corners that could not keep all their planes and cylinders). With
+    `rehandle`, a target beyond Reachable is reached in steps, each with a handle rebuilt
+    on the shape reached (dd.rehandled)."""
     outputs = {}
     regions = [tuple(p) for p in regions]
     origin = None if origin is None else tuple(origin)
@@ -82,7 +85,14 @@ def _moved(model, drive, deformed, kind, regions, target, origin, axis_point):
         lo, hi = result.reach
         outputs["Reachable"] = (list(dd.reach_values(result)) if len(result.current) == 1
                                 else [lo, hi])
-        vertices = deformed(model, result)
+        outputs["Handles"] = 1
+        if rehandle and not lo < result.step < hi:
+            vertices, _, last, outputs["Handles"] = dd.rehandled(
+                model, lambda m, r: drive(m, kind, r, target, origin, axis_point), deformed,
+                regions, result)
+            result = result._replace(measure=last.measure)
+        else:
+            vertices = deformed(model, result)
     except DeformError as e:
         if kind == "Angle" and e.prop == "Target":   # the angle lives in TargetAngle
             e = DeformError(re.sub(r"\bTarget\b", "TargetAngle", str(e)), "TargetAngle")
@@ -92,20 +102,23 @@ def _moved(model, drive, deformed, kind, regions, target, origin, axis_point):
     return vertices, outputs
 
 
-def mesh(model, base_mesh, kind, regions, target, origin=None, axis_point=None):
+def mesh(model, base_mesh, kind, regions, target, origin=None, axis_point=None,
+         rehandle=False):
     """(the Mesh moved, outputs): the dimension `kind` of the regions (points on the mesh,
     each picking the region nearest it) driven to `target` (target_of); `model` is
-    handle() of base_mesh's vertices and triangles."""
+    handle() of base_mesh's vertices and triangles. `rehandle`: beyond Reachable, go on
+    with new handles (the paper's dynamic handle)."""
     vertices, outputs = _moved(model, dd.drive, dd.deformed, kind, regions, target, origin,
-                               axis_point)
+                               axis_point, rehandle)
     return moved_mesh(base_mesh, vertices), outputs
 
 
-def fem(model, femmesh, ids, kind, regions, target, origin=None, axis_point=None):
+def fem(model, femmesh, ids, kind, regions, target, origin=None, axis_point=None,
+        rehandle=False):
     """(the FemMesh with its nodes moved, outputs) as mesh(), `model` fem_handle() of its
     nodes (numbered by ids) and elements; outputs add QualityAfter."""
     nodes, outputs = _moved(model, lambda m, *a: m.drive(*a), lambda m, d: m.deformed(d),
-                            kind, regions, target, origin, axis_point)
+                            kind, regions, target, origin, axis_point, rehandle)
     outputs["QualityAfter"] = model.quality(nodes)
     return fem_with_nodes(femmesh, ids, nodes), outputs
 

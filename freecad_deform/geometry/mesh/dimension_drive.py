@@ -10,6 +10,8 @@ no triangle turns over is the root of one quadratic per triangle.
 from typing import Callable, NamedTuple
 
 import numpy as np
+from scipy.sparse import csr_matrix, diags
+from scipy.sparse.linalg import spsolve
 from scipy.spatial import ConvexHull
 
 from .dimension_handle import build_handle, triangle_fit
@@ -43,6 +45,14 @@ def reach_values(drive):
         return drive.current[0] + drive.reach[0], drive.current[0] + drive.reach[1]
     ends = sorted(drive.value(s) for s in drive.reach)
     return ends[0], ends[1]
+
+
+def flips_between(before, after, triangles):
+    """How many triangles turn by 90 degrees or more from `before` to `after`."""
+    x, y = before[triangles], after[triangles]
+    n0 = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    n1 = np.cross(y[:, 1] - y[:, 0], y[:, 2] - y[:, 0])
+    return int(np.count_nonzero(np.einsum("ij,ij->i", n0, n1) <= 0))
 
 
 def _surface_distance(points, normals, tolerance):
@@ -107,6 +117,7 @@ class DimensionModel:
                  progress=lambda: None):
         self.vertices = np.asarray(vertices, float)
         self.triangles = np.asarray(triangles, np.int64)
+        self.settings = (feature_angle, handle_tolerance)     # for rebuilt()
         V, T = self.vertices, self.triangles
         self.size = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0))) if len(V) else 0.0
         if len(T) == 0 or self.size == 0:
@@ -128,6 +139,37 @@ class DimensionModel:
         self.handle = build_handle(V, T, self.labels, self.planar, self.simplified)
         progress()
 
+    def rebuilt(self, vertices):
+        """The model of the same triangles at new vertex positions (a new handle)."""
+        return DimensionModel(vertices, self.triangles, *self.settings)
+
+    def relaxed(self, vertices):
+        """`vertices` with those inside a planar region (all their triangles on it) moved
+        within its plane to the mean of their neighbours (a Tutte embedding of the region,
+        its boundary fixed): a plane grown or shrunk by a drive keeps well-shaped triangles
+        for the next handle; every plane stays where it is. Unchanged where that would flip
+        a triangle."""
+        T = self.triangles
+        one = np.diff(self.regions.indptr) == 1                # on one region only
+        inside = one.copy()
+        inside[one] = self.planar[self.regions.indices[self.regions.indptr[:-1][one]]]
+        if not inside.any():
+            return vertices
+        n = len(vertices)
+        i = T[:, [0, 1, 2, 1, 2, 0]].ravel()
+        j = T[:, [1, 2, 0, 0, 1, 2]].ravel()
+        A = csr_matrix((np.ones(len(i)), (i, j)), (n, n))
+        A.data[:] = 1.0                                     # each neighbour once
+        free = np.flatnonzero(inside)
+        fixed = np.flatnonzero(~inside)
+        L = diags(np.asarray(A.sum(axis=1)).ravel()) - A
+        X = np.array(vertices, float)
+        X[free] = spsolve(L[free][:, free].tocsc(), -(L[free][:, fixed] @ X[fixed]))\
+            .reshape(-1, 3)
+        if flips_between(vertices, X, T):
+            return vertices
+        return X
+
     # --- regions ----------------------------------------------------------------------------
     def region_vertices(self, label):
         return np.unique(self.triangles[self.labels == label])
@@ -148,12 +190,16 @@ class DimensionModel:
             self._cylinders[label] = fit
         return self._cylinders[label]
 
-    def region_at(self, point):
-        """The region of the triangle nearest `point` (exact point-triangle distances)."""
+    def triangle_at(self, point):
+        """The triangle nearest `point` (exact point-triangle distances)."""
         p = np.asarray(point, float).reshape(3)
         tri = self.vertices[self.triangles]
         distance, _ = triangle_fit(p, tri[:, 0], tri[:, 1], tri[:, 2], self.normals)
-        return int(self.labels[np.argmin(distance)])
+        return int(np.argmin(distance))
+
+    def region_at(self, point):
+        """The region of the triangle nearest `point`."""
+        return int(self.labels[self.triangle_at(point)])
 
     def regions_of(self, vertex):
         row = self.regions.indices[self.regions.indptr[vertex]:self.regions.indptr[vertex + 1]]
@@ -605,3 +651,63 @@ def range_text(result):
         low, high = reach_values(result)
         return f"reachable {low:.6g} to {high:.6g} (now {result.current[0]:.6g})"
     return f"the feature can move {hi:.6g} toward the target (asked {result.step:.6g})"
+
+
+REHANDLE_FRACTION = 0.5  # each step goes this part of the way to where a triangle would flip
+MAX_HANDLES = 20         # handles built before a drive that keeps on stalling is refused
+STALL = 1e-3             # a handle reaching less than this part of the way makes no progress
+
+
+def rehandled(model, drive_of, moved, regions, first=None, limit=MAX_HANDLES,
+               fraction=REHANDLE_FRACTION):
+    """(positions, first Drive, last Drive, handles) of a drive beyond the reach of one
+    handle: Date & Onosato's dynamic handle. The mesh goes part of the way within the
+    reach of its handle, a new handle (segments, fits, prisms) is built on the shape
+    reached, the same vertices and triangles, and so on until the target is within reach.
+
+    model has .vertices or .nodes, .rebuilt(positions) and (or its .surface) triangle_at;
+    drive_of(model, regions) gives the Drive to the target (`first`: already known for
+    `model`), moved(model, drive) the moved positions or a DeformError. Between handles
+    the vertices inside planes are relaxed (model.relaxed); the regions follow the
+    triangles they picked first.
+    Refused (DeformError naming Target, with the range reached) when a step would make the
+    mesh cut through itself, when it makes no progress, or after `limit` handles."""
+    surface = getattr(model, "surface", model)
+    picked = [surface.triangle_at(p) for p in regions]
+    first = drive = first if first is not None else drive_of(model, regions)
+    handles, start = 1, abs(first.step)
+    while True:
+        lo, hi = drive.reach
+        if lo < drive.step < hi:
+            try:
+                return moved(model, drive), first, drive, handles
+            except DeformError as e:   # cuts through itself before the target: say how far
+                raise _stalled(first, drive, handles, str(e)) from None
+        end = hi if drive.step > 0 else lo
+        s = fraction * end
+        if not np.isfinite(s) or abs(end) <= STALL * start or handles >= limit:
+            raise _stalled(first, drive, handles, "beyond it triangles flip and a new "
+                           "handle gains nothing more")
+        try:
+            positions = moved(model, drive._replace(step=s))
+        except DeformError as e:
+            raise _stalled(first, drive, handles, str(e)) from None
+        model = model.rebuilt(model.relaxed(positions))
+        handles += 1
+        surface = getattr(model, "surface", model)
+        corners = surface.vertices[surface.triangles[picked]]
+        drive = drive_of(model, [tuple(c) for c in corners.mean(axis=1)])
+
+
+def _stalled(first, drive, handles, why):
+    """The refusal of a rehandled drive: how far the dimension got with how many handles."""
+    if len(first.current) == 1:
+        now = drive.current[0]
+        text = (f"it went from {first.current[0]:.6g} to {now:.6g} with {handles} handle(s) "
+                f"(this handle: {range_text(drive)})")
+    else:
+        text = (f"the feature got to ({drive.current[0]:.6g}, {drive.current[1]:.6g}) with "
+                f"{handles} handle(s), {drive.step:.6g} short")
+    why = why.rstrip(".").replace("; change Target", "")
+    return DeformError(f"Target is beyond what rebuilt handles reach: {text}; {why}. "
+                       "Change Target.", "Target")

@@ -33,6 +33,24 @@ class VolumeModel:
         self.extension = vm.Extension(self.nodes, self.elements, self.boundary)
         progress()
 
+    def rebuilt(self, nodes):
+        """The model of the same elements at new node positions (a new handle)."""
+        return VolumeModel(nodes, self.elements, *self.surface.settings)
+
+    def relaxed(self, nodes):
+        """`nodes` with the boundary relaxed in its planes (DimensionModel.relaxed) and the
+        interior following by the harmonic extension; unchanged where an element would
+        invert."""
+        nodes = np.asarray(nodes, float)
+        boundary = nodes[self.boundary]
+        shift = self.surface.relaxed(boundary) - boundary
+        if not shift.any():
+            return nodes
+        out = nodes + self.extension.field(shift)
+        if np.any(vm.signed_volumes(out, self.tets) <= 0):
+            return nodes
+        return out
+
     def quality(self, nodes=None):
         """The worst scaled Jacobian of the elements (of their linear sub-tetrahedra)."""
         return float(vm.scaled_jacobian(self.nodes if nodes is None else nodes, self.tets).min())
