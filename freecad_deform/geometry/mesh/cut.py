@@ -23,10 +23,13 @@ def cut(vertices, triangles, origin, normal, eps=1e-9):
     return V, T
 
 
-def arrays(vertices, triangles):
-    """Fresh (N, 3) float and (M, 3) int64 copies of the input."""
-    return (np.array(vertices, dtype=float).reshape(-1, 3),
-            np.array(triangles, dtype=np.int64).reshape(-1, 3))
+def arrays(vertices, triangles, copy=True):
+    """(N, 3) float and (M, 3) int64 arrays of the input: fresh copies, or the input itself
+    where it is such an array already (copy=False, for a kernel that writes only to new
+    arrays)."""
+    make = np.array if copy else np.asarray
+    return (make(vertices, dtype=float).reshape(-1, 3),
+            make(triangles, dtype=np.int64).reshape(-1, 3))
 
 
 def _directed(T):
@@ -71,10 +74,11 @@ def cut_arrays(V, T, o, n, eps):
     quad1 = np.where(short[:, None], np.stack([p, b2, c2], 1), np.stack([p, b2, q], 1))
     quad2 = np.where(short[:, None], np.stack([p, c2, q], 1), np.stack([b2, c2, q], 1))
     one = ~two
-    T = np.concatenate([np.compress(~split, T, axis=0), np.stack([a2, p, q], 1), quad1, quad2,
-                        np.stack([a[one], b[one], pbc[one]], 1),
-                        np.stack([a[one], pbc[one], c[one]], 1)])
-    return W, without_flat(T), np.concatenate([s, np.zeros(len(P))])
+    pieces = np.concatenate([np.stack([a2, p, q], 1), quad1, quad2,
+                             np.stack([a[one], b[one], pbc[one]], 1),
+                             np.stack([a[one], pbc[one], c[one]], 1)])
+    T = np.concatenate([without_flat(np.compress(~split, T, axis=0)), without_flat(pieces)])
+    return W, T, np.concatenate([s, np.zeros(len(P))])
 
 
 def without_flat(T):

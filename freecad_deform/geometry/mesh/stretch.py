@@ -26,16 +26,17 @@ def stretch_mesh(vertices, triangles, origin, normal, distance, origin2=None, no
     (origin2 given; normal2 defaults to normal): the region between them is stretched
     along the normal with its cross-sections kept, the part beyond Plane2 moved rigidly.
     """
-    V, T = arrays(vertices, triangles)
+    V, T = arrays(vertices, triangles, copy=False)
     o, n, d = np.asarray(origin, float), unit_normal(normal), float(distance)
+    if d > 0 and origin2 is None:      # sweep_mesh checks the Plane as below
+        return _extend(V, T, o, n, d, eps)
+    V, T = arrays(V, T)
     check_crossing((V - o) @ n, "Plane", eps, touching=True)
     if d == 0:
         return V, T
     if origin2 is not None:
         return _stretch_between(V, T, o, n, d, np.asarray(origin2, float),
                                 n if normal2 is None else normal2, eps)
-    if d > 0:
-        return _extend(V, T, o, n, d, eps)
     return _shrink(V, T, o, n, -d, eps)
 
 

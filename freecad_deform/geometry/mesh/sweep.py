@@ -38,7 +38,7 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     (velocity . normal > 0), else the band would fold back through the fixed part: a
     DeformError names Axis (the axis crosses the section) or Angle (it all turns backward).
     """
-    V, T = arrays(vertices, triangles)
+    V, T = arrays(vertices, triangles, copy=False)       # only new arrays are written
     o, n = np.asarray(origin, float), unit_normal(normal)
     samples = _check_samples(samples)
     check_crossing((V - o) @ n, "Plane", eps, touching=True)
@@ -104,7 +104,7 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     map only at its vertices: the triangles are flat, so a curved map is sampled `samples`
     times across the gap. The cost is linear in samples and in the triangles.
     """
-    V, T = arrays(vertices, triangles)
+    V, T = arrays(vertices, triangles, copy=False)       # slab_cut writes to new arrays
     o, n = np.asarray(origin, float), unit_normal(normal)
     gap = _check_gap(gap)
     samples = _check_samples(samples)
@@ -118,7 +118,8 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     check_crossing(s, "Plane", eps, touching=True)
     check_crossing(s - gap, "Plane2", eps, touching=True)
     V, T, plane_of = slab_cut(V, T, o, n, gap, samples, eps)
-    f = np.clip(((V - o) @ n) / gap, 0.0, 1.0)
+    f = np.empty(len(V))      # the new vertices all lie on a plane, as the snapped ones
+    np.clip(s / gap, 0.0, 1.0, out=f[:len(s)])
     on = plane_of >= 0
     f[on] = plane_of[on] / samples
     return move_by_fraction(V, f, motion_of_s), T
@@ -168,21 +169,24 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     plane_of = np.where(on, j, -1).astype(np.int64)
     # level in plane units, exact on the planes; clipped so that floor/ceil stay integers
     u = np.clip(np.where(on, j, s / h), -1.0, samples + 1.0)
-    # which triangles cross a plane, from their lowest and highest level alone; only
-    # those are sorted (most triangles of a fine mesh cross none)
-    uT = u.take(T)
+    # which triangles cross a plane: only those whose corners are not all in one cell
+    # between planes can, and only those are sorted (most triangles of a fine mesh cross
+    # none); then from their lowest and highest level alone
+    cell = np.floor(u).astype(np.int32).take(T)
+    maybe = np.flatnonzero((cell[:, 0] != cell[:, 1]) | (cell[:, 1] != cell[:, 2]))
+    uT = u.take(T[maybe])
     u0, u1, u2 = uT.T                                   # (min/max along axis 1 are 5x slower)
     f_ac, n_ac = _planes_between(np.minimum(np.minimum(u0, u1), u2),
                                  np.maximum(np.maximum(u0, u1), u2), samples)
-    cross = n_ac > 0
-    if not cross.any():
-        return V, T, plane_of
-    keep = np.compress(~cross, T, axis=0)
-    order = np.argsort(uT[cross], axis=1, kind="stable")
-    a, b, c = np.take_along_axis(T[cross], order, axis=1).T
+    hit = n_ac > 0
+    rows = maybe[hit]
+    if not len(rows):
+        return V, T.copy(), plane_of
+    order = np.argsort(uT[hit], axis=1, kind="stable")
+    a, b, c = np.take_along_axis(T[rows], order, axis=1).T
     ua, ub, uc = u[a], u[b], u[c]
     odd = (order[:, 1] - order[:, 0]) % 3 != 1      # sorting reversed orientation
-    f_ac, n_ac = f_ac[cross], n_ac[cross]
+    f_ac, n_ac = f_ac[hit], n_ac[hit]
     f_ab, n_ab = _planes_between(ua, ub, samples)
     f_bc, n_bc = _planes_between(ub, uc, samples)
 
@@ -277,7 +281,14 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     new[x + 1] = np.stack([Lp, Sj, Lj], 1)
     rev = odd[tri]
     new[rev] = new[rev][:, ::-1]
-    return W, without_flat(np.concatenate([keep, new])), plane_of
+    new = without_flat(new)
+    kept = len(T) - len(rows)                 # the triangles crossing no plane, then the new
+    out = np.empty((kept + len(new), 3), np.int64)
+    keep = np.ones(len(T), bool)
+    keep[rows] = False
+    np.compress(keep, T, axis=0, out=out[:kept])
+    out[kept:] = new
+    return W, without_flat(out), plane_of
 
 
 def _merge_segments(P, segments, eps):
