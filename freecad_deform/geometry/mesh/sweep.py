@@ -350,9 +350,14 @@ def _vectorized(fn, point, direction, angle, shift=None):
         if shift is not None:
             Q = Q - f[:, None] * shift
         kr = (Q - c) @ K                                       # k x r, r from the axis point
+        kkr = kr @ K
         phi = f * angle
         half = np.sin(phi / 2)
-        return Q + np.sin(phi)[:, None] * kr + (2 * half * half)[:, None] * (kr @ K)
+        kr *= np.sin(phi)[:, None]            # Q + sin(phi) k x r + 2 sin^2(phi/2) k x (k x r),
+        kkr *= (2 * half * half)[:, None]     # in place (each fresh (K, 3) array costs)
+        kr += kkr
+        kr += Q
+        return kr
 
     fn.vectorized = True
     fn.moved = moved
