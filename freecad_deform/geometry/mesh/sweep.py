@@ -128,15 +128,21 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
 def move_by_fraction(points, f, motion_of_s):
     """Point i moved by motion_of_s(f[i]); the points with f = 0 returned bit-identical.
 
-    A motion with `moved` (twist_motion, bend_motion) turns every point directly, one
-    Rodrigues rotation per point on float arrays; any other through its (K, 4, 4)
-    transforms, one per distinct fraction."""
+    A motion with `moved` (twist_motion, bend_motion) moves the points at f = 1 by its one
+    end transform and turns those between directly, one Rodrigues rotation per point on
+    float arrays; any other goes through its (K, 4, 4) transforms, one per distinct
+    fraction."""
     P = np.asarray(points, float)
-    move = f > 0
     if hasattr(motion_of_s, "moved"):
-        out = motion_of_s.moved(P, f)
-        np.copyto(out, P, where=~move[:, None])
+        end = np.asarray(motion_of_s(1.0), float).reshape(4, 4)
+        out = P @ np.ascontiguousarray(end[:3, :3].T)
+        out += end[:3, 3]
+        near = np.flatnonzero(f <= 0)
+        out[near] = P.take(near, axis=0)
+        mid = np.flatnonzero((f > 0) & (f < 1))
+        out[mid] = motion_of_s.moved(P.take(mid, axis=0), f.take(mid))
         return out
+    move = f > 0
     out = P.copy()
     fractions, which = np.unique(f[move], return_inverse=True)   # a plane's points share one
     out[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)],

@@ -58,13 +58,14 @@ def sweep_points(points, origin, normal, motion, step=None, prop="Angle"):
 
 def _moved(pts, far, matrix, extra):
     """(N + extra, 3): the points, those in `far` moved by `matrix`, the rest bit-identical
-    (every point is transformed and the near ones copied back: cheaper than gathering the
-    far ones), then `extra` rows left for the fill."""
+    (every point is transformed and the near ones copied back: cheaper than a boolean
+    gather of the far ones), then `extra` rows left for the fill."""
     out = np.empty((len(pts) + extra, 3))
     head = out[:len(pts)]
-    np.matmul(pts, matrix[:3, :3].T, out=head)
+    np.matmul(pts, np.ascontiguousarray(matrix[:3, :3].T), out=head)
     head += matrix[:3, 3]
-    np.copyto(head, pts, where=~far[:, None])
+    near = np.flatnonzero(~far)
+    head[near] = pts.take(near, axis=0)
     return out
 
 
