@@ -47,12 +47,21 @@ def reach_values(drive):
     return ends[0], ends[1]
 
 
-def flips_between(before, after, triangles):
-    """How many triangles turn by 90 degrees or more from `before` to `after`."""
+def _worst_shape(X, triangles):
+    """The smallest 4 sqrt(3) area / (sum of squared edges) of the triangles (1: equilateral)."""
+    x = X[triangles]
+    e = x[:, [1, 2, 0]] - x
+    area = 0.5 * np.linalg.norm(np.cross(e[:, 0], e[:, 1]), axis=1)
+    return float((4 * np.sqrt(3) * area / np.maximum((e * e).sum(axis=(1, 2)), 1e-300)).min(
+        initial=1.0))
+
+
+def flipped(before, after, triangles):
+    """Which triangles turn by 90 degrees or more from `before` to `after`."""
     x, y = before[triangles], after[triangles]
     n0 = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
     n1 = np.cross(y[:, 1] - y[:, 0], y[:, 2] - y[:, 0])
-    return int(np.count_nonzero(np.einsum("ij,ij->i", n0, n1) <= 0))
+    return np.einsum("ij,ij->i", n0, n1) <= 0
 
 
 def _surface_distance(points, normals, tolerance):
@@ -143,12 +152,14 @@ class DimensionModel:
         """The model of the same triangles at new vertex positions (a new handle)."""
         return DimensionModel(vertices, self.triangles, *self.settings)
 
-    def relaxed(self, vertices):
-        """`vertices` with those inside a planar region (all their triangles on it) moved
-        within its plane to the mean of their neighbours (a Tutte embedding of the region,
-        its boundary fixed): a plane grown or shrunk by a drive keeps well-shaped triangles
-        for the next handle; every plane stays where it is. Unchanged where that would flip
-        a triangle."""
+    def relaxed(self, vertices, base=None):
+        """`vertices` (this model's moved) with those inside a planar region (all their
+        triangles on it) moved within its plane toward the mean of their neighbours
+        (weights: cotangents of the `base` mesh, the same mesh before any drive; default
+        this model), the region's boundary fixed: a plane a drive stretched on one side
+        (round a grown hole) gets its vertices evened out for the next handle, every plane
+        stays where it is. Of the whole move and its halves, the one whose worst triangle
+        is best shaped, flipping none (none: `vertices`)."""
         T = self.triangles
         one = np.diff(self.regions.indptr) == 1                # on one region only
         inside = one.copy()
@@ -156,19 +167,32 @@ class DimensionModel:
         if not inside.any():
             return vertices
         n = len(vertices)
-        i = T[:, [0, 1, 2, 1, 2, 0]].ravel()
-        j = T[:, [1, 2, 0, 0, 1, 2]].ravel()
-        A = csr_matrix((np.ones(len(i)), (i, j)), (n, n))
-        A.data[:] = 1.0                                     # each neighbour once
+        base = self.vertices if base is None else np.asarray(base, float)
+        x = base[T]
+        cot = []                                  # at each corner, of the edge across it
+        for k in range(3):
+            a, b = x[:, (k + 1) % 3] - x[:, k], x[:, (k + 2) % 3] - x[:, k]
+            cot.append(np.einsum("ij,ij->i", a, b)
+                       / np.maximum(np.linalg.norm(np.cross(a, b), axis=1), 1e-300))
+        w = np.maximum(np.stack(cot, 1), 1e-3)                 # kept positive
+        i = T[:, [1, 2, 0, 2, 0, 1]].ravel()
+        j = T[:, [2, 0, 1, 1, 2, 0]].ravel()
+        A = csr_matrix((np.concatenate([w, w], axis=1).ravel(), (i, j)), (n, n))
         free = np.flatnonzero(inside)
         fixed = np.flatnonzero(~inside)
         L = diags(np.asarray(A.sum(axis=1)).ravel()) - A
-        X = np.array(vertices, float)
-        X[free] = spsolve(L[free][:, free].tocsc(), -(L[free][:, fixed] @ X[fixed]))\
+        given = np.asarray(vertices, float)
+        Y = given.copy()
+        Y[free] = spsolve(L[free][:, free].tocsc(), -(L[free][:, fixed] @ Y[fixed]))\
             .reshape(-1, 3)
-        if flips_between(vertices, X, T):
-            return vertices
-        return X
+        near = np.isin(T, free).any(axis=1)
+        best, score = given, _worst_shape(given, T[near])
+        for t in 0.5 ** np.arange(RELAX_HALVINGS):
+            X = given + t * (Y - given)
+            q = _worst_shape(X, T[near])
+            if q > score and not flipped(self.vertices, X, T).any():
+                best, score = X, q
+        return best
 
     # --- regions ----------------------------------------------------------------------------
     def region_vertices(self, label):
@@ -655,6 +679,7 @@ def range_text(result):
 
 REHANDLE_FRACTION = 0.5  # each step goes this part of the way to where a triangle would flip
 MAX_HANDLES = 20         # handles built before a drive that keeps on stalling is refused
+RELAX_HALVINGS = 4       # the relaxation tried whole and halved this often
 STALL = 1e-3             # a handle reaching less than this part of the way makes no progress
 
 
@@ -674,6 +699,7 @@ def rehandled(model, drive_of, moved, regions, first=None, limit=MAX_HANDLES,
     mesh cut through itself, when it makes no progress, or after `limit` handles."""
     surface = getattr(model, "surface", model)
     picked = [surface.triangle_at(p) for p in regions]
+    base = getattr(model, "nodes", surface.vertices)
     first = drive = first if first is not None else drive_of(model, regions)
     handles, start = 1, abs(first.step)
     while True:
@@ -692,7 +718,7 @@ def rehandled(model, drive_of, moved, regions, first=None, limit=MAX_HANDLES,
             positions = moved(model, drive._replace(step=s))
         except DeformError as e:
             raise _stalled(first, drive, handles, str(e)) from None
-        model = model.rebuilt(model.relaxed(positions))
+        model = model.rebuilt(model.relaxed(positions, base))
         handles += 1
         surface = getattr(model, "surface", model)
         corners = surface.vertices[surface.triangles[picked]]
