@@ -68,7 +68,11 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     A, B = levels[:, np.searchsorted(ring, a)], levels[:, np.searchsorted(ring, b)]
     band = np.stack([np.stack([A[:-1], B[:-1], B[1:]], -1),
                      np.stack([A[:-1], B[1:], A[1:]], -1)], 1).reshape(-1, 3)
-    T = np.concatenate([near, copy[far], band])
+    remap = np.zeros(N, bool)                # far's corners that are near's too: their copies
+    remap[dup] = True
+    hit = remap.take(far)
+    far[hit] = copy[far[hit]]                # (far is this function's own array)
+    T = np.concatenate([near, far, band])
     V = np.concatenate([V, V[dup], inner])
     move = np.zeros(len(V), bool)
     move[:N] = far_used & ~near_used
