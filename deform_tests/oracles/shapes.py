@@ -155,7 +155,6 @@ def section(shape, origin, normal):
         wires = solid.slice(n, n.dot(V(*origin)))
         if not wires:
             continue
-        faces = Part.makeFace(wires, "Part::FaceMakerBullseye").Faces
         curved = any(type(e.Curve).__name__ in ("BSplineCurve", "BezierCurve", "OffsetCurve")
                      for w in wires for e in w.Edges if not e.Degenerated)
         spline = spline or curved
@@ -164,7 +163,7 @@ def section(shape, origin, normal):
             a, c = slab_section(solid, origin, normal)
             area, moment = area + a, moment + c * a
             continue
-        for face in faces:
+        for face in Part.makeFace(wires, "Part::FaceMakerBullseye").Faces:
             area += face.Area
             moment += np.array(tuple(face.CenterOfMass)) * face.Area
     return area, (moment / area if area else None), spline
