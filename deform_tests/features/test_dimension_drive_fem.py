@@ -15,7 +15,6 @@ from . import fc
 
 import FreeCAD as App  # noqa: E402
 import numpy as np  # noqa: E402
-from scipy.optimize import least_squares  # noqa: E402
 
 FEM_MOD = "/usr/share/freecad/Mod/Fem"
 if os.path.isdir(FEM_MOD) and FEM_MOD not in sys.path:
@@ -25,6 +24,8 @@ import ObjectsFem  # noqa: E402
 from feminout import importInpMesh  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
+from ..oracles.fits import cylinder_fit_free as fit_cylinder, radial  # noqa: E402
+from ..oracles.mesh import tet_volumes as volumes_of  # noqa: E402
 
 MIDS = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))   # SMDS order of mid-edge nodes
 
@@ -41,42 +42,9 @@ def elements_of(femmesh):
 
 def tet_volumes(femmesh):
     """Signed volumes of the corner tetrahedra, and for quadratic elements of the 8 parts
-    the test cuts each into (corner tets, octahedron along mid(01)-mid(23))."""
+    the test cuts each into (oracles.mesh.tet_volumes)."""
     ids, X = nodes_of(femmesh)
-    conn = np.searchsorted(ids, np.array(list(elements_of(femmesh).values())))
-    if conn.shape[1] == 10:
-        parts = [[0, 4, 6, 7], [4, 1, 5, 8], [6, 5, 2, 9], [7, 8, 9, 3],
-                 [4, 5, 6, 9], [4, 6, 7, 9], [4, 7, 8, 9], [4, 8, 5, 9]]
-        conn = conn[:, parts].reshape(-1, 4)
-    p = X[conn]
-    return np.einsum("ij,ij->i", p[:, 1] - p[:, 0],
-                     np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6
-
-
-def fit_cylinder(points):
-    """The test's cylinder: axis (point, unit direction), radius and largest deviation,
-    least squares started from the points' principal directions (a long cylinder's axis
-    is the largest, a short wide one's the smallest; the better fit is kept)."""
-    c = points.mean(axis=0)
-
-    def residual(q):
-        axis = q[3:6] / np.linalg.norm(q[3:6])
-        r = points - q[:3]
-        return np.linalg.norm(r - np.outer(r @ axis, axis), axis=1) - q[6]
-    best = None
-    for d in np.linalg.svd(points - c)[2][[0, 2]]:
-        r0 = np.linalg.norm((points - c) - np.outer((points - c) @ d, d), axis=1).mean()
-        q = least_squares(residual, np.concatenate([c, d, [r0]]), xtol=1e-15, ftol=1e-15,
-                          gtol=1e-15).x
-        if best is None or np.abs(residual(q)).max() < np.abs(residual(best)).max():
-            best = q
-    return best[:3], best[3:6] / np.linalg.norm(best[3:6]), abs(best[6]), \
-        np.abs(residual(best)).max()
-
-
-def radial(points, point, axis):
-    r = points - point
-    return np.linalg.norm(r - np.outer(r @ axis, axis), axis=1)
+    return volumes_of(X, np.searchsorted(ids, np.array(list(elements_of(femmesh).values()))))
 
 
 def quadratic(femmesh, radii=()):

@@ -53,3 +53,30 @@ def cylinder_fit(points, axis_guess):
     sol = least_squares(residual, np.r_[c0, a0, r0], xtol=1e-14, ftol=1e-14)
     a = sol.x[3:6] / np.linalg.norm(sol.x[3:6])
     return sol.x[:3], a, abs(sol.x[6]), float(np.sqrt(np.mean(sol.fun ** 2)))
+
+
+def radial(points, point, axis):
+    """Distances of the points from the axis (point, unit axis)."""
+    r = np.asarray(points, float) - point
+    return np.linalg.norm(r - np.outer(r @ axis, axis), axis=1)
+
+
+def cylinder_fit_free(points):
+    """(point on axis, unit axis, radius, largest deviation) of the least-squares cylinder
+    started from the points' principal directions (a long cylinder's axis is the largest,
+    a short wide one's the smallest; the better fit is kept): no axis guess needed."""
+    from scipy.optimize import least_squares
+    points = np.asarray(points, float)
+    c = points.mean(axis=0)
+
+    def residual(q):
+        return radial(points, q[:3], q[3:6] / np.linalg.norm(q[3:6])) - q[6]
+    best = None
+    for d in np.linalg.svd(points - c)[2][[0, 2]]:
+        r0 = radial(points, c, d).mean()
+        q = least_squares(residual, np.concatenate([c, d, [r0]]), xtol=1e-15, ftol=1e-15,
+                          gtol=1e-15).x
+        if best is None or np.abs(residual(q)).max() < np.abs(residual(best)).max():
+            best = q
+    return best[:3], best[3:6] / np.linalg.norm(best[3:6]), abs(best[6]), \
+        np.abs(residual(best)).max()

@@ -119,3 +119,19 @@ def distance_to_segments(points, p, q):
     length2 = np.maximum(np.einsum("ij,ij->i", d, d), np.finfo(float).tiny)
     t = np.clip(np.einsum("kij,ij->ki", points[:, None] - p, d) / length2, 0, 1)
     return np.linalg.norm(points[:, None] - (p + t[..., None] * d), axis=2).min(axis=1)
+
+
+QUADRATIC_PARTS = [[0, 4, 6, 7], [4, 1, 5, 8], [6, 5, 2, 9], [7, 8, 9, 3],
+                   [4, 5, 6, 9], [4, 6, 7, 9], [4, 7, 8, 9], [4, 8, 5, 9]]
+
+
+def tet_volumes(X, conn):
+    """Signed volumes of linear tetrahedra (conn (M, 4), indices into X), or of the 8 parts
+    each 10-node element is cut into (corner tets, octahedron along mid(01)-mid(23); SMDS
+    order of the mid-edge nodes)."""
+    conn = np.asarray(conn)
+    if conn.shape[1] == 10:
+        conn = conn[:, QUADRATIC_PARTS].reshape(-1, 4)
+    p = np.asarray(X, float)[conn]
+    return np.einsum("ij,ij->i", p[:, 1] - p[:, 0],
+                     np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6
