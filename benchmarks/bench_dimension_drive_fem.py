@@ -8,7 +8,8 @@ Prints a table, asserts nothing about time. Rows per mesh (the sfepy wheelset, F
 CalculiX rotor): reading the FemMesh into arrays; binding (the boundary's handle, the
 Laplacian factorized); a drive (constraint vectors, the handle product, the harmonic
 solve, flip and inversion ranges, the self-intersection check); the update of every node
-for a new s once the field is known (x + s * field); writing the FemMesh back (FreeCAD).
+for a new s once the field is known (x + s * field); writing the FemMesh back (FreeCAD);
+Rehandle to a radius beyond Reachable (each handle after the first a new binding).
 The floor is a CSR product of the handle's shape and non-zeros, random values, plus the
 interior solve's own cost (splu solve of 3 right-hand sides), measured in the same run.
 """
@@ -32,16 +33,17 @@ from feminout import importInpMesh  # noqa: E402
 from freecad_deform.ops import dimension_drive as op  # noqa: E402
 from freecad_deform.shapes.fem import fem_arrays, fem_with_nodes  # noqa: E402
 
-CASES = (("wheelset radius", "sfepy_wheelset.vtk", Fem.read, [(0.0, 0.075, 0.0)], 0.08),
+# name, file, reader, picks, target, a target beyond Reachable for Rehandle (or None)
+CASES = (("wheelset radius", "sfepy_wheelset.vtk", Fem.read, [(0.0, 0.075, 0.0)], 0.08, 0.21),
          ("rotor radius", "fcfem_constraint_centrif.inp", importInpMesh.read,
-          [(102.5, 0, 5)], 100.0))
+          [(102.5, 0, 5)], 100.0, None))
 
 
 def ms(t):
     return f"{t * 1e3:.3f}"
 
 
-def rows_of(timer, name, path, read, picks, target):
+def rows_of(timer, name, path, read, picks, target, beyond):
     femmesh = read(testdata(path))
     t_read, n_read = timer.median(lambda: fem_arrays(femmesh))
     ids, X, _, E = fem_arrays(femmesh)
@@ -65,7 +67,18 @@ def rows_of(timer, name, path, read, picks, target):
             (name, size, "bind (1 time)", n_bind, ms(t_bind), ""),
             (name, size, "op.fem (new target, written)", n_drive, ms(t_drive), ms(t_floor)),
             (name, size, "update x + s f", n_update, ms(t_update), ""),
-            (name, size, "write FemMesh", n_write, ms(t_write), "")]
+            (name, size, "write FemMesh", n_write, ms(t_write), "")] + \
+        rehandle_rows(timer, name, size, model, femmesh, ids, picks, beyond)
+
+
+def rehandle_rows(timer, name, size, model, femmesh, ids, picks, beyond):
+    """Rehandle to a target beyond Reachable: every handle after the first is a binding."""
+    if beyond is None:
+        return []
+    t, n = timer.median(lambda: op.fem(model, femmesh, ids, "Radius", picks, beyond,
+                                       rehandle=True))
+    handles = op.fem(model, femmesh, ids, "Radius", picks, beyond, rehandle=True)[1]["Handles"]
+    return [(name, size, f"Rehandle to {beyond:g} ({handles} handles)", n, ms(t), "")]
 
 
 def main(argv):
