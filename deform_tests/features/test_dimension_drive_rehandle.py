@@ -117,6 +117,7 @@ class TestHoleIntoTheWall(RehandleCase):
         low, high = self.clear_range(self.status(obj))   # through the wall at 30
         self.assertLess(low, 8 + 1e-4)
         self.assertTrue(8 < high < WALL, high)
+        self.assertEqual(obj.Handles > 1, rehandle)         # how many it took to get there
         self.assert_base_intact()
         target = round(high - 0.1, 1)
         obj.Target = target

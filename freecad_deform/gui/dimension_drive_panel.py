@@ -17,7 +17,8 @@ from ..geometry.mesh.regions import region_colours
 from ..ops import dimension_drive as op
 from ..geometry.errors import DeformError
 from ..geometry.sweep.defaults import across
-from .bindings import combo_box, on_value_changed, quantity_spin_box, set_spin_value, spin_value
+from .bindings import (check_box, combo_box, on_value_changed, quantity_spin_box,
+                       set_spin_value, spin_value)
 from .task_panel import TaskPanelBase
 from .widgets import length_text, pick_list, pick_toggle, results_box
 
@@ -122,7 +123,8 @@ class PickObserver:
 class DimensionDrivePanel(TaskPanelBase):
     TYPE = "DimensionDrive"
     TITLE = "Drive dimension"
-    EDITABLE = ("Kind", "Regions", "Target", "TargetV", "Origin", "AxisPoint", "FeatureAngle")
+    EDITABLE = ("Kind", "Regions", "Target", "TargetV", "Origin", "AxisPoint", "FeatureAngle",
+                "Rehandle")
 
     def __init__(self, obj, *args, **kwargs):
         self.quantities = {}   # property -> (QuantitySpinBox, ExpressionBinding)
@@ -165,6 +167,9 @@ class DimensionDrivePanel(TaskPanelBase):
         layout.addWidget(frame)
         form = QtGui.QFormLayout()
         self.add_quantity(form, "FeatureAngle", "deg", 0.0, 180.0)
+        self.rehandle = check_box(obj, "Rehandle")
+        self.rehandle.toggled.connect(self.on_rehandle)
+        form.addRow(self.rehandle)
         layout.addLayout(form)
         layout.addWidget(self.build_results())
 
@@ -201,7 +206,7 @@ class DimensionDrivePanel(TaskPanelBase):
 
     def build_results(self):
         box, self.outputs = results_box(self.obj, ("Current", "Achieved", "Reachable",
-                                                   "RegionCount"))
+                                                   "Handles", "RegionCount"))
         return box
 
     # --- showing values ------------------------------------------------------------------------
@@ -223,6 +228,7 @@ class DimensionDrivePanel(TaskPanelBase):
                 set_spin_value(box, value)
         for widget in self.position_only:
             widget.setVisible(obj.Kind == "Position")
+        self.rehandle.setChecked(bool(obj.Rehandle))
         self.load_regions()
 
     def load_regions(self):
@@ -273,9 +279,10 @@ class DimensionDrivePanel(TaskPanelBase):
             self.outputs[prop].setText(text)
             self.outputs[prop].setCursorPosition(0)
         self.outputs["RegionCount"].setText(str(obj.RegionCount))
+        self.outputs["Handles"].setText(str(obj.Handles))
 
     def clear_results(self):
-        for prop in ("Current", "Achieved", "Reachable"):
+        for prop in ("Current", "Achieved", "Reachable", "Handles"):
             self.outputs[prop].clear()
         self.outputs["RegionCount"].setText(str(self.obj.RegionCount))
 
@@ -433,6 +440,10 @@ class DimensionDrivePanel(TaskPanelBase):
         if prop in ("Target", "TargetV"):
             self.target_edited = True
         self.quantity_edited(prop, *self.quantities[prop])
+
+    def on_rehandle(self, checked):
+        if not self._loading:
+            self.set_property("Rehandle", bool(checked))
 
     def on_frame(self, prop):
         if not self._loading:

@@ -94,6 +94,8 @@ def _moved(model, drive, deformed, kind, regions, target, origin, axis_point,
         else:
             vertices = deformed(model, result)
     except DeformError as e:
+        if "Handles" in outputs:
+            outputs["Handles"] = getattr(e, "handles", outputs["Handles"])
         if kind == "Angle" and e.prop == "Target":   # the angle lives in TargetAngle
             e = DeformError(re.sub(r"\bTarget\b", "TargetAngle", str(e)), "TargetAngle")
         e.outputs = outputs

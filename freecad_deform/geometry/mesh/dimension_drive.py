@@ -735,5 +735,7 @@ def _stalled(first, drive, handles, why):
         text = (f"the feature got to ({drive.current[0]:.6g}, {drive.current[1]:.6g}) with "
                 f"{handles} handle(s), {drive.step:.6g} short")
     why = why.rstrip(".").replace("; change Target", "")
-    return DeformError(f"Target is beyond what rebuilt handles reach: {text}; {why}. "
-                       "Change Target.", "Target")
+    error = DeformError(f"Target is beyond what rebuilt handles reach: {text}; {why}. "
+                        "Change Target.", "Target")
+    error.handles = handles
+    return error
