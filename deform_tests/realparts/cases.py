@@ -773,13 +773,15 @@ def outcome_of(obj):
     return "FAILED", what
 
 
-RUNNERS = {"brep": run_brep, "flex": run_flex, "mesh": run_mesh, "points": run_points,
+from .fem_cases import fem_cases, run_fem  # noqa: E402  (it imports this module's names)
+
+RUNNERS = {"brep": run_brep, "flex": run_flex, "fem": run_fem, "mesh": run_mesh, "points": run_points,
            "dimension": run_dimension, "surface": run_surface}
 
 
 def all_cases():
     return (brep_cases() + flex_cases() + discrete_cases() + dimension_cases()
-            + surface_cases())
+            + fem_cases() + surface_cases())
 
 
 def run(case, floor=False):
