@@ -30,6 +30,8 @@ bench: deps
 	$(PY) benchmarks/bench_direct_push.py
 	$(PY) benchmarks/bench_flex.py
 	$(PY) benchmarks/mesh_samples.py
+	$(PY) benchmarks/bench_clouds_meshes.py
+	$(PY) benchmarks/bench_dimension_drive_fem.py
 
 # the real-parts matrix (issue 10) as a table: case, result, oracle error, seconds, OCCT floor
 realparts: deps
