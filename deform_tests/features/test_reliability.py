@@ -419,6 +419,29 @@ class ReliabilityTest(unittest.TestCase):
         self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
         t.Shape.Solids[0].check(True)
 
+    def test_steep_taper_is_refused_fast(self):
+        """Scale 2.43 over 0.0007 mm of a cone: OCCT's fuzzy fuse of the refit faces never
+        returned (5 minutes and more); refused naming Plane2, with the gap that would do."""
+        cone = self.doc.addObject("Part::Feature", "Cone")
+        cone.Shape = Part.makeCone(10, 0, 40, V(-20, 0, 0), V(1, 0, 0))
+        t = fd.make_taper(cone, (V(0, 0, 0), V(1, 1, 0)), (V(0.001, 0, 0), V(1, 1, 0)), 2.4347)
+        self.assertIn("move Plane2 farther", self.assert_refused(t, "Plane2"))
+
+    def test_twist_through_a_void_near_its_poles(self):
+        """Plane 0.0026 mm off a spherical void's poles: the void came back in two shells and
+        the volume grew by 466 mm^3, Up-to-date; now refused naming Plane2, and with Plane
+        moved to x = 0.5 the volume is kept (oracle: 40*20*20 - 4/3 pi 5^3, one void)."""
+        part = self.doc.addObject("Part::Feature", "Voided")
+        part.Shape = Part.makeBox(40, 20, 20, V(-20, -10, -10)).cut(Part.makeSphere(5))
+        t = fd.make_twist(part, (V(-0.0025634765625, 0, 0), V(1, 0, 0)),
+                          (V(2.4896240266971295, 0, 0), V(1, 0, 0)), 170)
+        self.assertIn("voids", self.assert_refused(t, "Plane2"))
+        t.Plane = App.Placement(V(0.5, 0, 0), App.Rotation(V(0, 0, 1), V(1, 0, 0)))
+        self.doc.recompute()
+        self.assertEqual(t.State, ["Up-to-date"], t.getStatusString())
+        self.assertEqual(len(t.Shape.Solids[0].Shells), 2)
+        self.assertAlmostEqual(t.Shape.Volume, 16000 - 4 / 3 * np.pi * 125, delta=1e-3)
+
     def test_failed_make_leaves_the_document_as_it_was(self):
         for undo_mode in (0, 1):
             self.doc.UndoMode = undo_mode

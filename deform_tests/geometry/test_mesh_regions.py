@@ -26,6 +26,15 @@ def test_the_threshold_splits_the_hole_into_its_facets():
     assert segment(V, T, np.radians(10)).max() + 1 == 6 + 32
 
 
+def test_a_vanishing_threshold_keeps_coplanar_triangles_together():
+    """FeatureAngle 1e-66 deg: coplanar triangles whose normals differ by float32 rounding
+    stay one region (each face, and each hole facet, one region: 6 + 32), instead of one
+    region per triangle (which took two minutes to build a handle)."""
+    V, T = block_with_hole(hole_segments=32)
+    V = V.astype(np.float32).astype(float)   # FreeCAD's mesh points
+    assert segment(V, T, np.radians(1e-66)).max() + 1 == 6 + 32
+
+
 def test_edges_know_their_two_triangles():
     V, T = block_with_hole()
     edges, faces = edge_triangles(T)

@@ -400,6 +400,10 @@ def refusal_problem(obj, case):
     exc = fc.RAISED.get(obj.Name)
     kind, prop = (None, None) if exc is None else (type(exc).__name__, getattr(exc, "prop", None))
     names = set(obj.PropertiesList)
+    base = getattr(obj, "Base", None)
+    if (exc is None or str(exc) != message) and base is not None and base != obj and \
+            "Invalid" in base.State:
+        return None  # FreeCAD's own verdict ("Error") on an object whose Base failed
     if not message.strip():
         return "empty status message"
     if kind != "DeformError":

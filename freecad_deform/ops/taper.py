@@ -24,7 +24,7 @@ def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
     pp.check_crossing(solids, origin, normal, gap)
     if point is None:
         point = pp.section_centroid(solids, origin, normal)
-    _check_shrink(shape, scale, point, rows[2], tolerance)
+    _check_shrink(shape, scale, point, rows[2], tolerance, gap)
     smap = taper_map(origin, normal, gap, scale, rows, point, profile)
     result, deviation = mapped.map_shape(shape, smap, tolerance)
     return result, {**pp.volume_change(result, shape), "MaxDeviation": deviation,
@@ -34,9 +34,14 @@ def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
 FOLD_MARGIN = 20.0  # the narrowest tapered width, in Tolerances, that refits keep unfolded
 
 
-def _check_shrink(shape, scale, point, axis, tolerance):
+STEEPEST = 500.0  # the sideways move across the region per length along it, at most
+
+
+def _check_shrink(shape, scale, point, axis, tolerance, gap):
     """A solid shrunk to a width of a few Tolerances gets refitted faces that fold (OCCT's
-    check: self-intersecting; a cylinder 16 mm across at Scale 0.001): refuse it."""
+    check: self-intersecting; a cylinder 16 mm across at Scale 0.001), and one scaled over a
+    region far thinner than its width tilts faces so steeply that the refit faces no
+    longer meet (OCCT's fuzzy fuse of them never returned): refuse both."""
     bb = shape.BoundBox
     corners = np.array([(x, y, z) for x in (bb.XMin, bb.XMax) for y in (bb.YMin, bb.YMax)
                         for z in (bb.ZMin, bb.ZMax)]) - point
@@ -48,6 +53,12 @@ def _check_shrink(shape, scale, point, axis, tolerance):
                           f"refitted faces fold; keep Scale at "
                           f"{FOLD_MARGIN * tolerance / width:.3g} or more (or lower "
                           f"Tolerance).", "Scale")
+    steep = float(np.max(np.abs(np.asarray(scale, float) - 1.0))) * width / gap
+    if steep > STEEPEST:
+        raise DeformError(f"Scale {least:g} over the {gap:.3g} mm between Plane and Plane2 moves "
+                          f"the part {steep:.3g} times farther sideways than along the region "
+                          f"(at most {STEEPEST:g}); move Plane2 farther from Plane (at least "
+                          f"{gap * steep / STEEPEST:.3g} mm) or bring Scale nearer 1.", "Plane2")
 
 
 def mesh(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):

@@ -84,7 +84,14 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
     # real file's: up to 0.01 mm), and so do their images
     slack = max([v.Tolerance for f in inside for v in f.Vertexes]
                 + [e.Tolerance for f in inside for e in f.Edges])
-    return sewn_solid(faces, joints, worst, prop, slack), worst
+    result = sewn_solid(faces, joints, worst, prop, slack)
+    if len(result.Shells) != len(solid.Shells):
+        # a void whose faces the planes cut by a hair (near a sphere's poles) came back in
+        # pieces, and the volume with them (a void box twisted: +466 mm^3)
+        raise DeformError(f"The mapped region's voids do not close again ({len(solid.Shells)} "
+                          f"shells became {len(result.Shells)}); move Plane or Plane2 a "
+                          f"little, off the voids' poles and seams.", "Plane2")
+    return result, worst
 
 
 def _shared_on_plane(a, b, origin, normal):

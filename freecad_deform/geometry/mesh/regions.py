@@ -35,6 +35,9 @@ def edge_triangles(triangles):
     return edges, faces
 
 
+COPLANAR = 1e-8  # 1 - cos of the angle (1.4e-4 rad) below which two normals are one
+
+
 def segment(vertices, triangles, feature_angle):
     """Region label (M,) of each triangle, 0..K-1, the largest region first.
 
@@ -45,7 +48,9 @@ def segment(vertices, triangles, feature_angle):
     _, faces = edge_triangles(triangles)
     inner = faces[(faces[:, 1] >= 0)]
     cos = np.einsum("ij,ij->i", normals[inner[:, 0]], normals[inner[:, 1]])
-    smooth = inner[cos >= np.cos(feature_angle)]
+    # coplanar triangles stay together whatever the angle: their normals differ by the
+    # rounding of float32 vertices (a FeatureAngle of 1e-66 made each triangle a region)
+    smooth = inner[cos >= min(np.cos(feature_angle), 1.0 - COPLANAR)]
     m = len(triangles)
     graph = coo_matrix((np.ones(len(smooth)), (smooth[:, 0], smooth[:, 1])), shape=(m, m))
     _, labels = connected_components(graph, directed=False)
