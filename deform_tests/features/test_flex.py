@@ -371,3 +371,33 @@ class StretchMapPlanes(unittest.TestCase):
         self.assertGreaterEqual(len(planes), 4)      # the block's sides, stretched
         self.assertTrue(all(f.Surface.TypeId == "Part::GeomPlane" for f in planes))
         self.assertLessEqual(deviation, 1e-3)
+
+    def test_loose_faces_between_two_planes_go_through_the_map(self):
+        """A box with two free faces beside it, stretched between x = -5 and 5 by 4: the
+        free cylinder along the normal stays cylinders, its lateral area 2 pi 3 (40 + 4);
+        the free tube across it (wholly in the region) is refit, and its points mapped back
+        by the inverse stretch (written here) lie 3 mm from its axis within Tolerance."""
+        doc = App.newDocument("LooseFaces")
+        try:
+            base = doc.addObject("Part::Feature", "Compound")
+            along = Part.makeCylinder(3, 40, V(-20, 30, 0), V(1, 0, 0)).Faces[0]
+            across = Part.makeCylinder(3, 10, V(0, -30, -5), V(0, 0, 1)).Faces[0]
+            base.Shape = Part.makeCompound([Part.makeBox(40, 20, 10, V(-20, -10, -5)),
+                                            along, across])
+            s = fd.make_stretch(base, (V(-5, 0, 0), V(1, 0, 0)), 4, plane2=(V(5, 0, 0),
+                                                                            V(1, 0, 0)))
+            self.assertEqual(s.State, ["Up-to-date"], s.getStatusString())
+            self.assertLessEqual(s.MaxDeviation, s.Tolerance.Value)
+            solid_faces = {f.hashCode() for f in s.Shape.Solids[0].Faces}
+            free = [f for f in s.Shape.Faces if f.hashCode() not in solid_faces]
+            tubes = [f for f in free if f.BoundBox.YMin > 0]
+            self.assertTrue(all(f.Surface.TypeId == "Part::GeomCylinder" for f in tubes))
+            self.assertAlmostEqual(sum(f.Area for f in tubes), 2 * np.pi * 3 * 44, delta=1e-9)
+            (mapped_tube,) = [f for f in free if f.BoundBox.YMax < -20]
+            pts = np.array([tuple(p) for p in mapped_tube.tessellate(0.05)[0]])
+            x = np.where(pts[:, 0] > 5 + 4, pts[:, 0] - 4,
+                         np.where(pts[:, 0] > -5, -5 + (pts[:, 0] + 5) * 10 / 14, pts[:, 0]))
+            radius = np.hypot(x, pts[:, 1] + 30)
+            self.assertLess(np.abs(radius - 3).max(), s.Tolerance.Value)
+        finally:
+            App.closeDocument(doc.Name)

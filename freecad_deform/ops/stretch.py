@@ -114,7 +114,7 @@ def stretch_shape(shape, origin, normal, distance, gap=None, tolerance=1e-3, rep
     return pp.deform_shape(
         shape, origin, normal, gap,
         lambda solid: _stretch_solid(solid, origin, normal, distance, gap, tolerance, report),
-        lambda parts: _stretch_loose(parts, origin, normal, distance, gap))
+        lambda parts: _stretch_loose(parts, origin, normal, distance, gap, tolerance, report))
 
 
 def _stretch_solid(solid, origin, normal, distance, gap, tolerance=1e-3, report=None):
@@ -155,14 +155,19 @@ def _joined(pieces, joints):
     return brep.join(pieces, joints) if pieces else None
 
 
-def _stretch_loose(parts, origin, normal, distance, gap):
-    """Wireframes and free faces: the same split and motion, cut points swept across the gap."""
+def _stretch_loose(parts, origin, normal, distance, gap, tolerance=1e-3, report=None):
+    """Wireframes and free faces: the same split and motion, cut points swept across the
+    gap; between two planes the region's pieces go through the stretch map like a solid's
+    faces (planes stay planes, the rest refit within `tolerance`)."""
     move = distance * normal
     if not parts or distance == 0:
         return [p.copy() for p in parts]
     if gap is not None:
         near, between, far = brep.split_loose(parts, origin, normal, [0.0, gap])
-        between = brep.affine_stretched(between, origin, normal, (gap + distance) / gap)
+        smap = space_map.stretch_map(origin, normal, gap, distance)
+        between, deviation = mapped.map_loose(between, smap, tolerance)
+        if report is not None:
+            report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
         return near + between + brep.translated(far, move)
     if distance > 0:
         near, far = brep.split_loose(parts, origin, normal, [0.0])

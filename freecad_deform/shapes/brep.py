@@ -281,15 +281,6 @@ def extruded(faces, vec):
     return [f.extrude(vector(vec)) for f in faces]
 
 
-def affine_stretched(solids, origin, normal, factor):
-    """Solids scaled by `factor` along `normal` about the plane through `origin` (B-spline faces)."""
-    u, v, n = frame(normal)
-    rows = np.array([u, v, n]).T @ np.diag([1.0, 1.0, factor]) @ np.array([u, v, n])
-    shift = origin - rows @ origin
-    m = App.Matrix(*rows[0], shift[0], *rows[1], shift[1], *rows[2], shift[2], 0, 0, 0, 1)
-    return [s.transformGeometry(m) for s in solids]
-
-
 def is_prismatic(solids, origin, normal, gap, samples=5):
     """True if every face of `solids` but the caps in the two planes is parallel to `normal`.
 

@@ -599,6 +599,27 @@ def _turned_on_surface(face, smap, tol):
 
 # --- loose wireframes --------------------------------------------------------------------
 
+def map_loose(parts, smap, tol):
+    """(loose parts of the region through the map, largest deviation): free faces and
+    shells refit face by face as a solid's faces are (planes stay planes under an affine
+    map) and sewn again; wires, edges and vertices as _loose maps them."""
+    out, worst = [], 0.0
+    for part in parts:
+        if not part.Faces:
+            out += _loose([part], smap, tol)
+            continue
+        faces = []
+        for face in part.Faces:
+            new, dev = map_face(face, smap, min(tol, SEW_FIT))
+            if dev > tol:
+                raise DeformError(f"A loose face cannot be fitted to Tolerance ({tol:.3g} mm; "
+                                  f"it is off by {dev:.3g} mm); raise Tolerance.", "Tolerance")
+            faces.append(new)
+            worst = max(worst, dev)
+        out += faces if len(faces) == 1 else _sewn(faces, max(4.0 * worst, 1e-6)).Shells or faces
+    return out, worst
+
+
 def _loose(parts, smap, tol):
     """Loose edges and vertices: those at one s moved exactly, the others refit."""
     out = []
