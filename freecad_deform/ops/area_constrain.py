@@ -35,10 +35,10 @@ def face(shape, face, target_area=0.0, target_ratio=0.0, poles=(), dof="Normal",
                                          target_of(target_area, target_ratio, original),
                                          dof, method, q)
     new_face = Part.Face(bspline.with_poles(surface, solution.poles))
-    result = None
+    moves = np.linalg.norm((solution.poles - arrays.poles).reshape(-1, 3), axis=1)
+    result, prop = None, "TargetRatio" if target_ratio else "TargetArea"
     if not ac.on_boundary(movable, arrays.weights.shape):
         result = bspline.replaced(shape, index, new_face)
-    moves = np.linalg.norm((solution.poles - arrays.poles).reshape(-1, 3), axis=1)
     outputs = {"OriginalArea": original, "AchievedArea": solution.area,
                "AreaError": solution.error,
                "NormalFallbacks": [f"{i},{j}" for i, j in solution.fallbacks],
@@ -48,8 +48,13 @@ def face(shape, face, target_area=0.0, target_ratio=0.0, poles=(), dof="Normal",
                "Replaced": result is not None}
     shape_out = result if result is not None else new_face
     if not shape_out.isValid():
-        prop = "TargetRatio" if target_ratio else "TargetArea"
-        raise DeformError(f"The face at {solution.area:.6g} mm^2 fails OCCT's check (its poles "
-                          f"moved up to {outputs['MaxPoleMove']:.3g} mm, folding it); ask for "
-                          f"an area nearer the original {original:.6g} mm^2 with {prop}.", prop)
+        raise _folded(solution.area, moves.max(), original, prop)
     return shape_out, outputs
+
+
+def _folded(area, move, original, prop):
+    """The refusal of a face the solution folded (OCCT's check fails, or OCCT cannot make
+    a solid of it)."""
+    return DeformError(f"The face at {area:.6g} mm^2 fails OCCT's check (its poles moved up "
+                       f"to {move:.3g} mm, folding it); ask for an area nearer the original "
+                       f"{original:.6g} mm^2 with {prop}.", prop)

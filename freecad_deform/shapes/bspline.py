@@ -261,7 +261,9 @@ def replaced_all(shape, faces_by_index):
     try:
         shell = Part.Shell(faces)
         shell.sewShape()
-        shell = shell.Shells[0] if shell.Shells else shell
+        if not shell.Shells:  # Part.Solid of no shell throws past Python on FreeCAD 1.1
+            return None
+        shell = shell.Shells[0]
         sewn = shell.Faces
         if len(sewn) == len(faces):
             ordered = in_order(sewn, faces)
