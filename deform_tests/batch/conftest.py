@@ -35,6 +35,22 @@ def mod_home(folder, addon="freecad_deform", source=REPO):
     return folder
 
 
+def saved_with_proxy(folder, module, source, cls, type_id, path):
+    """Save at `path` a document holding one `type_id` object whose proxy is `cls` of the
+    module `module` (its `source` written into `folder`, which is on sys.path only while
+    the document is made): a Python object only FreeCAD installs of that folder restore."""
+    (folder / f"{module}.py").write_text(source)
+    sys.path.insert(0, str(folder))
+    try:
+        proxy = getattr(__import__(module), cls)
+        doc = App.newDocument(cls)
+        proxy(doc.addObject(type_id, cls))
+        doc.saveAs(str(path))
+        App.closeDocument(doc.Name)
+    finally:
+        sys.path.remove(str(folder))
+
+
 FREECADCMD = ("freecadcmd", f"{REPO}/freecad_deform/batch/freecadcmd.py", "--")
 
 

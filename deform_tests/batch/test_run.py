@@ -6,9 +6,8 @@ import json
 import Mesh
 import Part
 
-from deform_tests.features.fc import App
-
-from .conftest import CUT_X, FREECADCMD, PART, cli, mod_home, model_path, section_area
+from .conftest import (CUT_X, FREECADCMD, PART, cli, mod_home, model_path, saved_with_proxy,
+                       section_area)
 
 
 def _table(path):
@@ -67,26 +66,17 @@ def test_objects_that_did_not_load_are_refused(tmp_path):
     """A document whose Python object comes from a module the command cannot import: the
     object would not recompute, so the run is refused (exit status 2) instead of reporting
     its stored results as new ones."""
-    import sys
-    (tmp_path / "ghost_proxy.py").write_text(
-        "class Ghost:\n"
-        "    def __init__(self, obj):\n"
-        "        obj.Proxy = self\n"
-        "    def execute(self, obj):\n"
-        "        pass\n"
-        "    def dumps(self):\n"
-        "        return None\n"
-        "    def loads(self, state):\n"
-        "        return None\n")
-    sys.path.insert(0, str(tmp_path))
-    try:
-        import ghost_proxy
-        doc = App.newDocument("Ghost")
-        ghost_proxy.Ghost(doc.addObject("Part::FeaturePython", "Ghost"))
-        doc.saveAs(str(tmp_path / "ghost.FCStd"))
-        App.closeDocument(doc.Name)
-    finally:
-        sys.path.remove(str(tmp_path))
+    saved_with_proxy(tmp_path, "ghost_proxy",
+                     "class Ghost:\n"
+                     "    def __init__(self, obj):\n"
+                     "        obj.Proxy = self\n"
+                     "    def execute(self, obj):\n"
+                     "        pass\n"
+                     "    def dumps(self):\n"
+                     "        return None\n"
+                     "    def loads(self, state):\n"
+                     "        return None\n",
+                     "Ghost", "Part::FeaturePython", tmp_path / "ghost.FCStd")
     done = cli("run", tmp_path / "ghost.FCStd", "--out", tmp_path / "out", check=False)
     assert done.returncode == 2 and "Ghost did not load" in done.stderr
     assert not (tmp_path / "out" / "results.csv").exists()

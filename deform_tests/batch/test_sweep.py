@@ -7,7 +7,7 @@ import os
 import Part
 import pytest
 
-from .conftest import FREECADCMD, App, cli, mod_home
+from .conftest import FREECADCMD, App, cli, mod_home, saved_with_proxy
 
 DISTANCES = ["10", "-500", "25.5", "3 cm", "3 kg"]  # -500 shrinks past the end, kg: fail
 MM = [10.0, None, 25.5, 30.0, None]
@@ -166,19 +166,10 @@ class Crash:
 def test_a_crashing_variant_does_not_stop_the_sweep(tmp_path):
     """Variant 2 kills its worker process (as a FreeCAD crash would): it is recorded as a
     crash, and the others still run, each result right."""
-    import sys
     addon = tmp_path / "CrashAddon"  # installed in a Mod folder, as FreeCAD requires
     addon.mkdir()
-    (addon / "crash_proxy.py").write_text(CRASH)
-    sys.path.insert(0, str(addon))
-    try:
-        import crash_proxy
-        doc = App.newDocument("Crash")
-        crash_proxy.Crash(doc.addObject("App::FeaturePython", "Crash"))
-        doc.saveAs(str(tmp_path / "crash.FCStd"))
-        App.closeDocument(doc.Name)
-    finally:
-        sys.path.remove(str(addon))
+    saved_with_proxy(addon, "crash_proxy", CRASH, "Crash", "App::FeaturePython",
+                     tmp_path / "crash.FCStd")
     (tmp_path / "t.csv").write_text("Crash.Mode\n1\n2\n3\n4\n")
     cli("sweep", tmp_path / "crash.FCStd", "--table", tmp_path / "t.csv", "--out",
         tmp_path / "out", "--jobs", 2,
