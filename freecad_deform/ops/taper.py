@@ -24,7 +24,7 @@ def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
     pp.check_crossing(solids, origin, normal, gap)
     if point is None:
         point = pp.section_centroid(solids, origin, normal)
-    _check_shrink(shape, scale, point, rows[2], tolerance, gap)
+    _check_scale(shape, scale, point, rows[2], tolerance, gap)
     smap = taper_map(origin, normal, gap, scale, rows, point, profile)
     result, deviation = mapped.map_shape(shape, smap, tolerance)
     return result, {**pp.volume_change(result, shape), "MaxDeviation": deviation,
@@ -37,7 +37,7 @@ FOLD_MARGIN = 20.0  # the narrowest tapered width, in Tolerances, that refits ke
 STEEPEST = 500.0  # the sideways move across the region per length along it, at most
 
 
-def _check_shrink(shape, scale, point, axis, tolerance, gap):
+def _check_scale(shape, scale, point, axis, tolerance, gap):
     """A solid shrunk to a width of a few Tolerances gets refitted faces that fold (OCCT's
     check: self-intersecting; a cylinder 16 mm across at Scale 0.001), and one scaled over a
     region far thinner than its width tilts faces so steeply that the refit faces no
