@@ -124,6 +124,19 @@ def floor_fn(op, points):
     return lambda: points @ m[:3, :3].T + m[:3, 3]
 
 
+def turn_floor_fn(points, axis_point):
+    """The twist's second floor: every point turned by its own angle (its fraction of the
+    gap, clipped to [0, 1], times Angle) about the axis, Rodrigues in plain numpy, no cut."""
+    o, gap, angle = TWIST["origin"], TWIST["gap"], np.radians(TWIST["angle"])
+    K = np.array([[0, 0, 0], [0, 0, -1.0], [0, 1.0, 0]]).T     # r @ K = X x r
+
+    def floor():
+        phi = np.clip((points - o) @ X / gap, 0.0, 1.0) * angle
+        kr = (points - axis_point) @ K
+        return points + np.sin(phi)[:, None] * kr + (1 - np.cos(phi))[:, None] * (kr @ K)
+    return floor
+
+
 def make_feature(op, base):
     import freecad_deform as fd
     if op == "Stretch":
@@ -174,10 +187,77 @@ def run_row(name, data_dir, runs, budget):
     ours, n = timer.median(fn)
     peak = memory("VmHWM")
     floor, _ = timer.median(floor_fn(op, points), max(n, 5))
+    turn_floor = None
+    if op == "Twist":
+        axis_point = twist_axis(base.Mesh if kind == "mesh" else data)[0]
+        turn_floor, _ = timer.median(turn_floor_fn(points, axis_point), max(n, 5))
     parts, total = profiled(fn, CALLS) if what == "recompute" else ({}, 0.0)
-    print(json.dumps(dict(name=name, runs=n, ours=ours, floor=floor, base_rss=base_rss,
+    print(json.dumps(dict(name=name, runs=n, ours=ours, floor=floor, turn_floor=turn_floor,
+                          base_rss=base_rss,
                           peak_rss=peak if clean else None, out=int(size), parts=parts,
                           total=total)))
+
+
+# ---------------------------------------------------------------------------- Blender, the peer
+
+BLENDER_SCRIPT = """
+import bpy, json, statistics, sys, time
+side, runs = int(sys.argv[-2]), int(sys.argv[-1])
+for o in list(bpy.data.objects):
+    bpy.data.objects.remove(o)
+bpy.ops.mesh.primitive_grid_add(x_subdivisions=side, y_subdivisions=side, size=2.0)
+obj = bpy.context.active_object
+dg = bpy.context.evaluated_depsgraph_get()
+
+def evaluate():
+    obj.data.update()            # tag the mesh, off the clock: the update re-evaluates it all
+    t = time.perf_counter()
+    dg.update()
+    evaluated = obj.evaluated_get(dg)
+    count = len(evaluated.to_mesh().vertices)
+    seconds = time.perf_counter() - t
+    evaluated.to_mesh_clear()
+    return seconds, count
+
+def median():
+    evaluate()
+    return statistics.median(evaluate()[0] for _ in range(runs))
+
+out = dict(vertices=len(obj.data.vertices), version=bpy.app.version_string, none=median())
+mod = obj.modifiers.new("deform", "SIMPLE_DEFORM")
+for method, angle in (("STRETCH", 0.0), ("BEND", -1.0472), ("TWIST", 1.5708)):
+    mod.deform_method, mod.deform_axis = method, "X"
+    if method == "STRETCH":
+        mod.factor = 0.2
+    else:
+        mod.angle = angle
+    out[method] = median()
+    if evaluate()[1] != out["vertices"]:
+        raise RuntimeError(method + " changed the vertex count")
+print("BLENDER_JSON " + json.dumps(out))
+"""
+
+
+def blender_peer(count, runs):
+    """Blender's Simple Deform on a grid of about `count` vertices: {"none": s, "STRETCH": s,
+    "BEND": s, "TWIST": s, "vertices": n, "version": v}, or a sentence saying why not."""
+    import shutil
+    exe = shutil.which("blender")
+    if exe is None:
+        return "blender is not installed on this machine"
+    side = int(round(count ** 0.5)) - 1                     # (side + 1)^2 vertices
+    with tempfile.NamedTemporaryFile("w", suffix=".py", delete=False) as f:
+        f.write(BLENDER_SCRIPT)
+    try:
+        child = subprocess.run([exe, "-b", "--factory-startup", "--python", f.name, "--",
+                                str(side), str(runs)], capture_output=True, text=True,
+                               timeout=900)
+    finally:
+        os.unlink(f.name)
+    line = next((x for x in child.stdout.splitlines() if x.startswith("BLENDER_JSON ")), None)
+    if line is None:
+        return f"blender ran but printed no time (exit {child.returncode})"
+    return json.loads(line.split(" ", 1)[1])
 
 
 # ---------------------------------------------------------------------------- the table
@@ -197,6 +277,28 @@ def inputs(quick, where):
     return f"{len(cloud):,} points", f"{len(tris):,} tris"
 
 
+def target(kind, op, what, r, peer):
+    """Issue 16's target for a row: (the target as printed, met or not)."""
+    if what == "kernel":
+        return "ratio <= 5", r["ours"] <= 5 * r["floor"]
+    if kind == "mesh":
+        return "< 1 s", r["ours"] < 1.0
+    if isinstance(peer, dict):
+        limit = 2 * peer[op.upper()]
+        return f"2 x Blender {seconds(peer[op.upper()])}", r["ours"] <= limit
+    return "< 0.4 s", r["ours"] < 0.4
+
+
+def blender_rows(peer):
+    """The peer's table: the whole evaluation without and with each method, and the
+    modifier alone (with minus without)."""
+    rows = [("no modifier", f"{peer['vertices']:,} vertices", seconds(peer["none"]), "")]
+    for method in ("STRETCH", "BEND", "TWIST"):
+        rows.append((f"Simple Deform {method.lower()}", f"{peer['vertices']:,} vertices",
+                     seconds(peer[method]), seconds(peer[method] - peer["none"])))
+    return rows
+
+
 def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     if "--row" in argv:
@@ -213,7 +315,10 @@ def main(argv=None):
     start = time.perf_counter()
     print(machine_line())
     print(runs_line(args, timer.runs) + "; each row in its own process")
-    rows, profiles = [], []
+    rows, profiles, goals = [], [], []
+    peer = blender_peer(10 ** 5 if args.quick else 10 ** 6, timer.runs)
+    progress(start, "Blender: " + (peer if isinstance(peer, str) else
+                                   ", ".join(f"{k} {v}" for k, v in peer.items())))
     with tempfile.TemporaryDirectory() as where:
         sizes = dict(zip(("points", "mesh"), inputs(args.quick, where)))
         progress(start, f"inputs: {sizes['points']}, {sizes['mesh']}")
@@ -227,9 +332,14 @@ def main(argv=None):
                 sys.exit(f"{name} failed:\n{child.stderr}")
             r = json.loads(child.stdout.strip().splitlines()[-1])
             peak = "?" if r["peak_rss"] is None else f"{r['peak_rss']:.0f}"
+            turned = r["turn_floor"]
             rows.append((name, sizes[kind], r["runs"], seconds(r["ours"]), seconds(r["floor"]),
-                         f"{r['ours'] / r['floor']:.1f}", f"{r['base_rss']:.0f}", peak,
-                         f"{r['out']:,}"))
+                         f"{r['ours'] / r['floor']:.1f}",
+                         "" if turned is None else seconds(turned),
+                         "" if turned is None else f"{r['ours'] / turned:.1f}",
+                         f"{r['base_rss']:.0f}", peak, f"{r['out']:,}"))
+            goal, met = target(kind, op, what, r, peer)
+            goals.append((name, sizes[kind], seconds(r["ours"]), goal, "yes" if met else "NO"))
             if r["parts"]:
                 d = r["parts"]
                 profiles.append((name, sizes[kind], seconds(r["total"]),
@@ -238,8 +348,16 @@ def main(argv=None):
             progress(start, f"{name}: {seconds(r['ours'])} s, floor {seconds(r['floor'])} s, "
                             f"peak {peak} MB")
     print_table("Point clouds and meshes: ours vs the numpy floor (seconds, median; RSS in MB)",
-                ("case", "input", "runs", "ours", "floor", "ratio", "base RSS", "peak RSS",
-                 "output"), rows)
+                ("case", "input", "runs", "ours", "floor", "ratio", "turn floor", "ratio",
+                 "base RSS", "peak RSS", "output"), rows)
+    if isinstance(peer, dict):
+        print_table(f"Blender {peer['version']} Simple Deform (blender -b, median of "
+                    f"{timer.runs}): the whole evaluation (depsgraph update + to_mesh), and "
+                    f"the modifier alone (with minus without)",
+                    ("case", "input", "whole", "modifier"), blender_rows(peer))
+    else:
+        print(f"\nBlender peer: {peer}; the point recomputes' target is 0.4 s.")
+    print_table("Issue 16's targets", ("case", "input", "ours", "target", "met"), goals)
     print_table("Where one profiled recompute spends its time (seconds, cumulative per call)",
                 ("case", "input", "total", *(c for c, _ in CALLS), "rest"), profiles)
     print(f"\nTotal {time.perf_counter() - start:.0f} s.")
