@@ -427,3 +427,42 @@ def test_a_closed_curve_is_pushed_at_its_seam_and_stays_closed(t):
         with pytest.raises(DeformError) as e:
             dp.push_curve(c, t, target, c.degree + 2)
         assert e.value.prop == "Points"
+
+
+def rational_eval(s, poles, u, v):
+    """The test's own evaluation of a rational surface: scipy's design matrices in u and v
+    on the homogeneous poles."""
+    Bu = BSpline.design_matrix([u], s.uknots, s.udegree).toarray()[0]
+    Bv = BSpline.design_matrix([v], s.vknots, s.vdegree).toarray()[0]
+    w = np.einsum("i,ij,j->", Bu, s.weights, Bv)
+    return np.einsum("i,ijk,j->k", Bu, poles * s.weights[..., None], Bv) / w
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(["canopy", "c1", "rational"]), st.floats(0, 1), st.floats(0, 1),
+       st.integers(0, 6), st.tuples(*[st.floats(-5, 5)] * 3), st.integers(1, 8))
+def test_unconstrained_surface_push_equals_the_general_solve_and_lands(kind, a, b, knot,
+                                                                        move, size):
+    """The closed-form push (no constraints) moves the same poles by the same amounts as the
+    general least-norm solve (forced by holding a pole far from the point), and the point
+    lands on the target by scipy's evaluation; parameters on knots are drawn too."""
+    if kind == "canopy":
+        s = canopy(12, 9)
+    elif kind == "c1":
+        s = c1_surface(14, 10)
+    else:
+        s = canopy(12, 9)._replace(weights=np.random.default_rng(knot).uniform(0.5, 2, (12, 9)))
+    u, v = (a, b) if knot == 0 else (s.uknots[3 + knot], s.vknots[2 + knot])
+    target = rational_eval(s, s.poles, u, v) + np.array(move)
+    far = 0 if u > 0.5 else s.weights.size - 1         # a border pole: never movable anyway
+    try:
+        general = dp.push_surface(s, u, v, target, size, held=[far])
+    except DeformError as e:
+        with pytest.raises(DeformError, match="border of the face"):
+            dp.push_surface(s, u, v, target, size)
+        assert "border of the face" in str(e)
+        return
+    new = dp.push_surface(s, u, v, target, size)
+    np.testing.assert_allclose(new.poles, general.poles, rtol=0, atol=1e-12 * 100)
+    assert np.abs(rational_eval(s, new.poles, u, v) - target).max() < 1e-11
+    assert np.count_nonzero(np.abs(new.poles - s.poles).max(axis=2)) <= size * size

@@ -16,6 +16,7 @@ Primitives (the paper's 4.2, here in 3D, for curves and surfaces):
   angle, the corner where asked; on a surface a crease along an iso-curve with straight
   sides. On surfaces fixed points hold position and tangent plane by linear constraints.
 """
+import bisect
 from typing import NamedTuple
 
 import numpy as np
@@ -61,6 +62,24 @@ def local_basis(knots, degree, t, derivative=0):
     if derivative:
         b = b.derivative(derivative)
     return k - degree, b(float(t))
+
+
+def span_basis(knots, degree, t):
+    """(first, values): local_basis's degree + 1 values at t, by de Boor's triangle (The
+    NURBS Book, A2.2) on plain floats: a push evaluates them once, where building a scipy
+    BSpline costs ten times the whole push."""
+    n = len(knots) - degree - 1
+    k = min(max(bisect.bisect_right(knots, t) - 1, degree), n - 1)
+    N, left, right = [1.0] + [0.0] * degree, [0.0] * (degree + 1), [0.0] * (degree + 1)
+    for j in range(1, degree + 1):
+        left[j], right[j] = t - knots[k + 1 - j], knots[k + j] - t
+        saved = 0.0
+        for r in range(j):
+            temp = N[r] / (right[r + 1] + left[j - r])
+            N[r] = saved + right[r + 1] * temp
+            saved = left[j - r] * temp
+        N[j] = saved
+    return k - degree, N
 
 
 def surface_row(s, u, v, du=0, dv=0):
@@ -217,19 +236,22 @@ def pole_at(c, t):
     return k - 1
 
 
-def window(weights, size, low, high):
+def window(weights, size, low, high, first=0):
     """`size` consecutive pole indices within [low, high] for a point whose basis weights
     over the poles are `weights`: the poles it depends on (the paper's V_i..V_i+degree),
-    widened evenly on both sides, or the heaviest ones when fewer are asked."""
-    nonzero = np.nonzero(weights > 0)[0]
-    lo, hi = int(nonzero[0]), int(nonzero[-1])
+    widened evenly on both sides, or the heaviest ones when fewer are asked. `weights`
+    may be those of poles first.. only (all others zero). Plain Python: a push calls it
+    twice on a few values, where numpy's per-call cost would dominate."""
+    weights = weights.tolist() if isinstance(weights, np.ndarray) else list(weights)
+    nonzero = [k for k, x in enumerate(weights) if x > 0]
+    lo, hi = first + nonzero[0], first + nonzero[-1]
     size = min(size, high - low + 1)
     if size < hi - lo + 1:
-        centre = int(np.argmax(weights))
+        centre = first + max(range(len(weights)), key=weights.__getitem__)
         start = centre - (size - 1) // 2
     else:
         start = lo - (size - (hi - lo + 1)) // 2
-    start = int(np.clip(start, low, high - size + 1))
+    start = min(max(start, low), high - size + 1)
     return list(range(start, start + size))
 
 
@@ -339,12 +361,19 @@ def range_bound(n_interior, degree):
 
 # --- surfaces ---------------------------------------------------------------------------------
 
+BORDER = ("The grabbed point is on (or a hair from) the border of the face, a degenerated "
+          "edge or a boundary shared with the faces around it, where only poles that must "
+          "stay move it; pick Points farther inside.")
+
+
 def push_surface(s, u, v, target, size, fixed=(), groups=(), held=()):
     """The surface with S(u, v) moved exactly to `target`, moving at most size x size
     interior poles around it (border poles never), least-norm. `fixed` (u, v) points keep
     their position and tangent plane (S, S_u, S_v unchanged: 9 linear constraints each).
     `groups` are straight spans' poles: held, or moved as one when the point is on one;
     `held` poles (an angle's) never move."""
+    if not (fixed or groups or held):
+        return _push_free(s, u, v, target, size)
     nu, nv = s.weights.shape
     row = surface_row(s, u, v)
     grid = np.abs(row.reshape(nu, nv))
@@ -357,10 +386,7 @@ def push_surface(s, u, v, target, size, fixed=(), groups=(), held=()):
     movable += [i for g in on for i in g if i not in movable
                 and 0 < i // nv < nu - 1 and 0 < i % nv < nv - 1]
     if row[movable].sum() < 1e-3:   # the poles that may move would go >1000x as far
-        raise DeformError("The grabbed point is on (or a hair from) the border of the face, "
-                          "a degenerated edge or a boundary shared with the faces around it, "
-                          "where only poles that must stay move it; pick Points farther "
-                          "inside.", "Points")
+        raise DeformError(BORDER, "Points")
     rows = [row]
     rhs = [np.asarray(target, float) - row @ s.poles.reshape(-1, 3)]
     for fu, fv in fixed:
@@ -369,6 +395,31 @@ def push_surface(s, u, v, target, size, fixed=(), groups=(), held=()):
             rhs.append(np.zeros(3))
     D = least_norm(nu * nv, movable, rows, rhs, on)
     return s._replace(poles=s.poles + D.reshape(s.poles.shape))
+
+
+def _push_free(s, u, v, target, size):
+    """push_surface without constraints, in closed form on the (p + 1) x (q + 1) poles
+    the point depends on (R their rational basis times W): the least-norm move of the
+    movable ones is r_k d / sum r_k^2 (the paper's formula), what least_norm's solve
+    gives for one row."""
+    nu, nv = s.weights.shape
+    iu, Nu = span_basis(s.uknots.tolist(), s.udegree, u)
+    jv, Nv = span_basis(s.vknots.tolist(), s.vdegree, v)
+    a, b = len(Nu), len(Nv)
+    R = np.multiply.outer(Nu, Nv) * s.weights[iu:iu + a, jv:jv + b]
+    W = float(R.sum())
+    grid = np.abs(R)
+    ii = window(grid.sum(axis=1), size, 1, nu - 2, iu)
+    jj = window(grid.sum(axis=0), size, 1, nv - 2, jv)
+    i0, i1 = max(ii[0], iu) if ii else iu, min(ii[-1] + 1, iu + a) if ii else iu
+    j0, j1 = max(jj[0], jv) if jj else jv, min(jj[-1] + 1, jv + b) if jj else jv
+    moved = R[i0 - iu:i1 - iu, j0 - jv:j1 - jv]
+    if moved.sum() < 1e-3 * W:
+        raise DeformError(BORDER, "Points")
+    d = np.asarray(target, float) - R.ravel() @ s.poles[iu:iu + a, jv:jv + b].reshape(-1, 3) / W
+    poles = s.poles.copy()
+    poles[i0:i1, j0:j1] += np.multiply.outer(moved, d * (W / np.vdot(moved, moved)))
+    return s._replace(poles=poles)
 
 
 def refine_surface(s, u, v, size):
