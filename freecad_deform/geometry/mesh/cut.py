@@ -4,6 +4,8 @@ and sweep kernels: the cut, and the seam where the two sides meet.
 Meshes are vertices (N, 3) float and triangles (M, 3) int, counter-clockwise seen from
 outside; s is the signed distance to the plane, positive on the side that moves.
 """
+from typing import NamedTuple
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -37,20 +39,39 @@ def _directed(T):
     return T.ravel(), np.roll(T, -1, axis=1).ravel()
 
 
-def cut_arrays(V, T, o, n, eps):
-    """`cut` on clean arrays (see `arrays`); also returns s, exactly 0 for the vertices on
-    the plane."""
+def signed(V, o, n):
+    """The signed distances (V - o) @ n (N,): exactly 0 at a vertex equal to o (the
+    cheaper V @ n - o . n is not)."""
+    return (V - o) @ n
+
+
+class Split(NamedTuple):
+    """A cut at a plane before it is assembled (see `split`)."""
+    s: np.ndarray        # (N,) signed distances, exactly 0 on the snapped vertices
+    snap: np.ndarray     # the vertices within eps of the plane
+    offset: np.ndarray   # their distances before the snap: each moves by -offset * n
+    code: np.ndarray     # (N,) uint8 per vertex: 1 beyond the plane, 2 below, 4 on it
+    side: np.ndarray     # (M,) uint8 per triangle: the OR of its corners' codes (3 & side
+                         # == 3: the triangle is cut)
+    P: np.ndarray        # (K, 3) the new vertices on the plane, numbered N + k
+    pieces: np.ndarray   # (L, 3) the cut triangles' pieces, none flat, in that numbering
+
+
+def split(V, T, o, n, eps, s):
+    """The cut of `cut_arrays` without building its result, for the kernels that lay out
+    their own: one gather of a code per corner classifies every triangle; only the cut
+    ones are looked at further. `s` (the signed distances) is written in place."""
     N = len(V)
-    s = (V - o) @ n
-    on = np.abs(s) <= eps
-    V = V.copy()
-    V[on] -= s[on, None] * n
-    s[on] = 0.0
-    side = ((s > 0).astype(np.int8) - (s < 0)).take(T)         # int8 and column by column:
-    c0, c1, c2 = (side[:, j] * side[:, (j + 1) % 3] < 0 for j in range(3))  # 3x faster
-    split = c0 | c1 | c2                                     # edge j: vertex j -> j+1
-    Ts = T[split]
-    cs = np.stack([c0[split], c1[split], c2[split]], 1)
+    snap = np.flatnonzero(np.abs(s) <= eps)
+    offset = s[snap]
+    s[snap] = 0.0
+    code = (s > 0).view(np.uint8) | ((s < 0).view(np.uint8) << 1)
+    code[snap] = 4
+    c = code.take(T)
+    side = c[:, 0] | c[:, 1] | c[:, 2]
+    rows = np.flatnonzero((side & 3) == 3)
+    Ts, cT = T[rows], c[rows] & 3
+    cs = (cT | np.roll(cT, -1, axis=1)) == 3                 # edge j: vertex j -> j+1 crosses
     ea, eb = Ts[cs], np.roll(Ts, -1, axis=1)[cs]
     keys, inv = np.unique(np.minimum(ea, eb) * N + np.maximum(ea, eb), return_inverse=True)
     lo, hi = keys // N, keys % N
@@ -58,10 +79,9 @@ def cut_arrays(V, T, o, n, eps):
     P = V[lo] + t[:, None] * (V[hi] - V[lo])
     P -= ((P - o) @ n)[:, None] * n
     P, inv = _merge_close(P, inv, eps)
-    W = np.concatenate([V, P])
     new = np.full(Ts.shape, -1, dtype=np.int64)
     new[cs] = N + inv
-    # Rotate each split triangle to start at its pivot: the lone vertex on one side when
+    # Rotate each cut triangle to start at its pivot: the lone vertex on one side when
     # two edges cross, else the on-plane vertex opposite the one crossing edge.
     two = cs.sum(axis=1) == 2
     pivot = np.where(two, np.argmax(cs & np.roll(cs, 1, axis=1), axis=1),
@@ -70,15 +90,36 @@ def cut_arrays(V, T, o, n, eps):
     a, b, c = np.take_along_axis(Ts, turn, axis=1).T
     pab, pbc, pca = np.take_along_axis(new, turn, axis=1).T
     a2, b2, c2, p, q = a[two], b[two], c[two], pab[two], pca[two]
-    short = np.linalg.norm(W[p] - W[c2], axis=1) <= np.linalg.norm(W[b2] - W[q], axis=1)
+    pp, pq = P[p - N], P[q - N]                   # b2 and c2 are off the plane: not snapped
+    short = np.linalg.norm(pp - V[c2], axis=1) <= np.linalg.norm(V[b2] - pq, axis=1)
     quad1 = np.where(short[:, None], np.stack([p, b2, c2], 1), np.stack([p, b2, q], 1))
     quad2 = np.where(short[:, None], np.stack([p, c2, q], 1), np.stack([b2, c2, q], 1))
     one = ~two
     pieces = np.concatenate([np.stack([a2, p, q], 1), quad1, quad2,
                              np.stack([a[one], b[one], pbc[one]], 1),
                              np.stack([a[one], pbc[one], c[one]], 1)])
-    T = np.concatenate([without_flat(np.compress(~split, T, axis=0)), without_flat(pieces)])
-    return W, T, np.concatenate([s, np.zeros(len(P))])
+    return Split(s, snap, offset, code, side, P, without_flat(pieces))
+
+
+def placed(V, sp, n, extra=0):
+    """(N + K + extra, 3): the vertices with the snapped ones on the plane, then the cut's
+    new ones, then `extra` rows left for the caller."""
+    N, K = len(V), len(sp.P)
+    W = np.empty((N + K + extra, 3))
+    W[:N] = V
+    W[sp.snap] -= sp.offset[:, None] * n
+    W[N:N + K] = sp.P
+    return W
+
+
+def cut_arrays(V, T, o, n, eps):
+    """`cut` on clean arrays (see `arrays`); also returns s, exactly 0 for the vertices on
+    the plane. The input's own triangles are kept as they are, in their order, followed by
+    the cut ones' pieces."""
+    sp = split(V, T, o, n, eps, signed(V, o, n))
+    kept = np.flatnonzero((sp.side & 3) != 3)
+    T = np.concatenate([T.take(kept, axis=0), sp.pieces])
+    return placed(V, sp, n), T, np.concatenate([sp.s, np.zeros(len(sp.P))])
 
 
 def without_flat(T):

@@ -10,7 +10,7 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from .cut import arrays, cut_arrays, seam, without_flat
+from .cut import arrays, cut_arrays, placed, seam, signed, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, unit_normal
 from ..vectors import skew, unit
@@ -41,45 +41,82 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     V, T = arrays(vertices, triangles, copy=False)       # only new arrays are written
     o, n = np.asarray(origin, float), unit_normal(normal)
     samples = _check_samples(samples)
-    check_crossing((V - o) @ n, "Plane", eps, touching=True)
-    V, T, s = cut_arrays(V, T, o, n, eps)
-    pos = s > 0
-    is_far = pos[T[:, 0]] | pos[T[:, 1]] | pos[T[:, 2]]
-    near, far = np.compress(~is_far, T, axis=0), np.compress(is_far, T, axis=0)
-    near_used = np.zeros(len(V), bool)
-    near_used[near] = True
-    far_used = np.zeros(len(V), bool)
-    far_used[far] = True
-    dup = np.flatnonzero(near_used & far_used)
+    s = signed(V, o, n)
+    check_crossing(s, "Plane", eps, touching=True)
+    sp = split(V, T, o, n, eps, s)
     N = len(V)
-    copy = np.arange(N)
-    copy[dup] = N + np.arange(len(dup))
-    _, a, b = seam(far, near, s == 0)
+    NK = N + len(sp.P)
+    side, pieces = sp.side, sp.pieces
+    # the pieces' sides: far when a corner is beyond the plane (the new vertices are on it)
+    corner = np.where(pieces < N, sp.code.take(np.minimum(pieces, N - 1)), 4)
+    piece_far = ((corner[:, 0] | corner[:, 1] | corner[:, 2]) & 1) == 1
+    near_rows = np.flatnonzero((side & 1) == 0)
+    far_rows = np.flatnonzero((side & 3) == 1)
+    near_pieces, far_pieces = pieces[~piece_far], pieces[piece_far]
+    # only the triangles with a corner on the plane can share one with the other side
+    near_touch = T[np.flatnonzero((side & 5) == 4)]
+    far_touch_rows = np.flatnonzero((side & 7) == 5)
+    far_touch = T[far_touch_rows]
+    on = np.zeros(NK, bool)
+    on[sp.snap] = True
+    on[N:] = True
+    used = np.zeros((2, NK), bool)
+    used[0, near_touch] = used[0, near_pieces] = True
+    used[1, far_touch] = used[1, far_pieces] = True
+    dup = np.flatnonzero(used[0] & used[1])                # on the plane, used by both sides
+    is_dup = np.zeros(NK, bool)
+    is_dup[dup] = True
+
+    def copies(tris):                   # the dup corners renumbered to their copies
+        hit = is_dup.take(tris)
+        tris[hit] = NK + np.searchsorted(dup, tris[hit])
+        return tris
+
+    _, a, b = seam(np.concatenate([far_touch, far_pieces]),
+                   np.concatenate([near_touch, near_pieces]), on)
     ring = np.unique(np.concatenate([a, b]))
+    base = NK + len(dup)
+    W = placed(V, sp, n, len(dup) + (samples - 1) * len(ring))
+    W[NK:base] = W[dup]
     if len(ring):
-        _check_no_fold(motion.velocity(V[ring], 0.0), n)
+        _check_no_fold(motion.velocity(W[ring], 0.0), n)
     # ring level i of the seam vertices: themselves (i = 0), their copies (i = samples),
     # else appended level by level; one quad (two triangles) per seam edge and level
-    ts = np.arange(1, samples) / samples
-    inner = apply(motion.matrices(ts), V[ring]).reshape(-1, 3) if samples > 1 else np.empty((0, 3))
-    base = N + len(dup)
+    if samples > 1:
+        W[base:] = apply(motion.matrices(np.arange(1, samples) / samples),
+                         W[ring]).reshape(-1, 3)
     levels = np.concatenate([ring[None], base + np.arange((samples - 1) * len(ring)).reshape(
-        samples - 1, len(ring)), copy[ring][None]])
+        samples - 1, len(ring)), NK + np.searchsorted(dup, ring)[None]])
     A, B = levels[:, np.searchsorted(ring, a)], levels[:, np.searchsorted(ring, b)]
     band = np.stack([np.stack([A[:-1], B[:-1], B[1:]], -1),
                      np.stack([A[:-1], B[1:], A[1:]], -1)], 1).reshape(-1, 3)
-    remap = np.zeros(N, bool)                # far's corners that are near's too: their copies
-    remap[dup] = True
-    hit = remap.take(far)
-    far[hit] = copy[far[hit]]                # (far is this function's own array)
-    T = np.concatenate([near, far, band])
-    V = np.concatenate([V, V[dup], inner])
-    move = np.zeros(len(V), bool)
-    move[:N] = far_used & ~near_used
-    move[N:base] = True
-    moving = np.flatnonzero(move)
-    V[moving] = apply(motion.matrix(1.0), V.take(moving, axis=0))
-    return V, T
+    # the result's triangles written once: near (kept, pieces), far (kept, pieces), band
+    sizes = np.cumsum([0, len(near_rows), len(near_pieces), len(far_rows), len(far_pieces),
+                       len(band)])
+    out = np.empty((sizes[-1], 3), np.int64)
+    T.take(near_rows, axis=0, out=out[:sizes[1]], mode="clip")
+    out[sizes[1]:sizes[2]] = near_pieces
+    far_kept = out[sizes[2]:sizes[3]]
+    T.take(far_rows, axis=0, out=far_kept, mode="clip")
+    far_kept[np.searchsorted(far_rows, far_touch_rows)] = copies(far_touch)
+    out[sizes[3]:sizes[4]] = copies(far_pieces)
+    out[sizes[4]:] = band
+    # what moves by M(1): the vertices beyond the plane, those on it used by the far side
+    # alone, and the copies
+    end = motion.matrix(1.0)
+    alone = np.flatnonzero(used[1] & ~used[0] & on)
+    if np.array_equal(end[:3, :3], np.eye(3)):            # a translation: by columns
+        head = W[:N]
+        beyond = sp.code == 1
+        for k in range(3):
+            if end[k, 3] != 0:
+                head[:, k] += beyond * end[k, 3]
+        W[alone] += end[:3, 3]
+        W[NK:base] += end[:3, 3]
+    else:
+        moving = np.concatenate([np.flatnonzero(sp.code == 1), alone, np.arange(NK, base)])
+        W[moving] = apply(end, W.take(moving, axis=0))
+    return W, out
 
 
 def _check_no_fold(velocity, n):
