@@ -53,6 +53,34 @@ def test_gradient_and_hessian_match_finite_differences(surface):
     assert np.abs(H - H.T).max() < 1e-12 * np.abs(H).max()
 
 
+@pytest.mark.parametrize("surface, pairs", [
+    (canopy(7, 6), [(2, 2), (2, 3), (3, 3), (5, 4), (6, 5), (4, 2)]),
+    (hood(10, 6), [(3, 2), (3, 3), (9, 2), (9, 5), (6, 4)])], ids=["canopy", "hood"])
+def test_rectangle_wise_hessian_matches_finite_differences_of_the_gradient(surface, pairs):
+    """The Hessian assembled rectangle by rectangle from the tensor rules (non-rational),
+    on the area's own nodes, against central differences of the gradient: poles whose
+    cells also hold poles that stay, and the hood's rectangles graded toward its
+    degenerate corner and collapsed edge (many rectangles per cell, several rules)."""
+    q = quadrature(surface)
+    assert q.nodes.tensor and q.light.tensor
+    P = surface.poles
+    movable = np.array([idx(surface, i, j) for i, j in pairs])
+    H = q.hessian(P, movable, exact=True)
+    h = 1e-6 * np.abs(P).max()
+    fd = []
+    for m in movable:
+        for c in range(3):
+            up, down = P.reshape(-1, 3).copy(), P.reshape(-1, 3).copy()
+            up[m, c] += h
+            down[m, c] -= h
+            fd.append((q.gradient(up, movable)[1] - q.gradient(down, movable)[1]).ravel()
+                      / (2 * h))
+    assert np.abs(H - np.array(fd)).max() < 1e-7 * np.abs(H).max()
+    assert np.abs(H - H.T).max() < 1e-13 * np.abs(H).max()
+    light = q.hessian(P, movable)
+    assert np.abs(light - H).max() < 1e-4 * np.abs(H).max()
+
+
 def solve(s, movable, ratio, dof, method="Lagrange-Newton"):
     a0 = quadrature(s).area(s.poles)
     sol = ac.constrain_surface_area(s, movable, ratio * a0, dof, method)

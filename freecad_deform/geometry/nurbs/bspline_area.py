@@ -13,6 +13,7 @@ its error estimate (the finer rule converges faster); the sum is the reported er
 The surface is linear in its poles: at each point S_u = sum Ru_m P_m over the (p+1)(q+1)
 poles of its cell, so gradient and Hessian are sums of small dense blocks per cell.
 """
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -136,21 +137,38 @@ def cells(surface):
     return Rects.new(bu[i], bu[i + 1], bv[j], bv[j + 1], su[i], sv[j], np.zeros(len(i), int))
 
 
+@lru_cache(maxsize=None)
+def gauss(n):
+    """The n-point Gauss-Legendre nodes and weights on [-1, 1] (computed once per n)."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    x.flags.writeable = w.flags.writeable = False
+    return x, w
+
+
+def _interval_basis(knots, degree, a, b, span, x):
+    """Basis values and derivatives (R, n, degree + 1) at the nodes x mapped onto each
+    interval [a, b] of knot span `span`, evaluated once per distinct interval (the cells of
+    a large face share a few hundred)."""
+    key = np.stack([a, b, span.astype(float)], 1)
+    unique, back = np.unique(key, axis=0, return_inverse=True)
+    half = (unique[:, 1] - unique[:, 0]) / 2
+    u = (unique[:, 0] + half)[:, None] + half[:, None] * x
+    N, dN = basis(knots, degree, np.repeat(unique[:, 2].astype(int), len(x)), u.ravel())
+    shape = (len(unique), len(x), degree + 1)
+    back = np.asarray(back).ravel()
+    return N.reshape(shape)[back], dN.reshape(shape)[back]
+
+
 def _rule(rects, surface, n):
     """Per rectangle: the n x n Gauss-Legendre nodes' weights (R, n, n) and the local basis
     values Nu, dNu (R, n, p+1), Nv, dNv (R, n, q+1)."""
     s = surface
-    x, w = np.polynomial.legendre.leggauss(n)
-    R = len(rects.u0)
+    x, w = gauss(n)
     hu, hv = (rects.u1 - rects.u0) / 2, (rects.v1 - rects.v0) / 2
-    u = (rects.u0 + hu)[:, None] + hu[:, None] * x
-    v = (rects.v0 + hv)[:, None] + hv[:, None] * x
-    Nu, dNu = basis(s.uknots, s.udegree, np.repeat(rects.su, n), u.ravel())
-    Nv, dNv = basis(s.vknots, s.vdegree, np.repeat(rects.sv, n), v.ravel())
-    shape_u, shape_v = (R, n, s.udegree + 1), (R, n, s.vdegree + 1)
+    Nu, dNu = _interval_basis(s.uknots, s.udegree, rects.u0, rects.u1, rects.su, x)
+    Nv, dNv = _interval_basis(s.vknots, s.vdegree, rects.v0, rects.v1, rects.sv, x)
     weights = (hu[:, None] * w)[:, :, None] * (hv[:, None] * w)[:, None, :]
-    return weights, Nu.reshape(shape_u), dNu.reshape(shape_u), Nv.reshape(shape_v), \
-        dNv.reshape(shape_v)
+    return weights, Nu, dNu, Nv, dNv
 
 
 def _local(rects, surface, poles):
@@ -264,6 +282,7 @@ class Nodes(NamedTuple):
     cell_starts: np.ndarray
     Su: csr_matrix      # Ru and Rv as sparse (K, poles) matrices
     Sv: csr_matrix
+    tensor: tuple = ()  # non-rational: the rectangles' 1-D rules, one TensorRule per n
 
     def tangents(self, poles):
         P = np.asarray(poles, float).reshape(-1, 3)
@@ -278,11 +297,25 @@ class Nodes(NamedTuple):
         return Su, Sv, f, cross * inv[:, None], inv
 
 
+class TensorRule(NamedTuple):
+    """Rectangles of one n x n rule on a non-rational surface: node (r, a, b) is row
+    pos[r, a, b] of the Nodes, with Ru = dNu[r, a] x Nv[r, b] and Rv = Nu[r, a] x dNv[r, b]
+    over the rectangle's poles (flat indices `poles`, (R, L))."""
+    pos: np.ndarray
+    Nu: np.ndarray
+    dNu: np.ndarray
+    Nv: np.ndarray
+    dNv: np.ndarray
+    poles: np.ndarray
+
+
 def nodes(surface, rects, counts):
     """The Nodes of the n x n rule on each rectangle, n = counts (one per rectangle),
     sorted by cell."""
-    parts = [_nodes(surface, rects.take(counts == n), int(n)) for n in np.unique(counts)]
-    cell = np.concatenate([p[-1] for p in parts])
+    sizes = np.unique(counts)
+    picks = [rects.take(counts == n) for n in sizes]
+    parts = [_nodes(surface, r, int(n)) for r, n in zip(picks, sizes)]
+    cell = np.concatenate([p[4] for p in parts])
     order = np.argsort(cell, kind="stable")
     Ru, Rv, index, weights = (np.concatenate([p[k] for p in parts])[order] for k in range(4))
     cell = cell[order]
@@ -290,9 +323,19 @@ def nodes(surface, rects, counts):
         np.zeros(0, int)
     K, L = index.shape
     indptr = np.arange(0, K * L + 1, L)
+    tensor = []
+    if np.all(surface.weights == 1):
+        where = np.empty(K, int)
+        where[order] = np.arange(K)
+        offset = 0
+        for (_, _, part_index, _, _, basis), n in zip(parts, sizes):
+            R = len(part_index) // (n * n)
+            pos = where[offset:offset + R * n * n].reshape(R, n, n)
+            tensor.append(TensorRule(pos, *basis, part_index[::n * n]))
+            offset += R * n * n
     return Nodes(Ru, Rv, index, weights, starts,
                  *(csr_matrix((R.ravel(), index.ravel(), indptr), (K, surface.weights.size))
-                   for R in (Ru, Rv)))
+                   for R in (Ru, Rv)), tuple(tensor))
 
 
 def _nodes(surface, rects, n):
@@ -314,7 +357,7 @@ def _nodes(surface, rects, n):
         Ru = (Ru * w - R * (Wu / W)[:, None]) / W[:, None]
         Rv = (Rv * w - R * (Wv / W)[:, None]) / W[:, None]
     cell = np.repeat(rects.su * s.weights.shape[1] + rects.sv, n * n)
-    return Ru, Rv, index, weights.ravel(), cell
+    return Ru, Rv, index, weights.ravel(), cell, (Nu, dNu, Nv, dNv)
 
 
 class Quadrature:
@@ -357,7 +400,8 @@ class Quadrature:
     def hessian(self, poles, movable, exact=False):
         """d2 area / d pole coordinates (3k, 3k), index 3 * m + c (eq. 4-6):
         (1/f) dn_a . (I - n n^T) dn_b + n . d2n_ab, with dn = (Rv_m [S_u]x - Ru_m [S_v]x) e_c,
-        summed cell by cell as dense (L, 3, L, 3) blocks; on the light rule unless `exact`."""
+        summed rectangle by rectangle as dense (L, 3, L, 3) blocks; on the light rule
+        unless `exact`."""
         q = self.nodes if exact else self.light
         Su, Sv, f, n, inv = q.normal(poles)
         s, w = q.weights * inv, q.weights
@@ -370,14 +414,17 @@ class Quadrature:
                                                             np.eye(3))
                                  + outer(np.cross(Sv, n), np.cross(Su, n))) - \
             w[:, None, None] * skew(n)
-        coef = (("u", "u", (s * (Sv * Sv).sum(1))[:, None, None] * nn),
-                ("v", "v", (s * (Su * Su).sum(1))[:, None, None] * nn),
-                ("u", "v", uv), ("v", "u", np.transpose(uv, (0, 2, 1))))
-        R = {"u": q.Ru, "v": q.Rv}
+        uu = (s * (Sv * Sv).sum(1))[:, None, None] * nn
+        vv = (s * (Su * Su).sum(1))[:, None, None] * nn
         movable = np.asarray(movable, int)
         k = len(movable)
         position = np.full(np.asarray(poles).size // 3, -1)
         position[movable] = np.arange(k)
+        if q.tensor:
+            return _tensor_hessian(q.tensor, uu, vv, uv, position, k)
+        coef = (("u", "u", uu), ("v", "v", vv), ("u", "v", uv),
+                ("v", "u", np.transpose(uv, (0, 2, 1))))
+        R = {"u": q.Ru, "v": q.Rv}
         H = np.zeros((k, 3, k, 3))
         ends = np.r_[q.cell_starts[1:], len(f)]
         for start, end in zip(q.cell_starts, ends):
@@ -394,6 +441,42 @@ class Quadrature:
             H[np.ix_(g, range(3), g, range(3))] += \
                 block.reshape(m, 3, 3, m).transpose(0, 1, 3, 2)
         return H.reshape(3 * k, 3 * k)
+
+
+def _tensor_hessian(tensor, uu, vv, uv, position, k):
+    """The Hessian of a non-rational surface from its rectangles' tensor rules: a term
+    sum_(a,b) R_i c R_j with R_i = X[a, i1] Y[b, i2] and R_j = Z[a, j1] T[b, j2] is summed
+    over b first (the rule's v nodes), then over a: two small matrix products per
+    rectangle instead of one over all n^2 nodes. The blocks go into H by bincount."""
+    H = np.zeros((3 * k) ** 2)
+    for r in tensor:
+        R, n, pu = r.Nu.shape
+        pv = r.Nv.shape[2]
+        local = position[r.poles]                                   # (R, L)
+        use = (local >= 0).any(1)
+        if not use.any():
+            continue
+        pos, local = r.pos[use], local[use]
+        Nu, dNu, Nv, dNv = (x[use] for x in (r.Nu, r.dNu, r.Nv, r.dNv))
+        R = len(pos)
+
+        def term(c, X, Y, Z, T):    # (R, pu, pu, 3, 3, pv, pv): [i1, j1, x, y, i2, j2]
+            W = (Y[:, :, :, None] * T[:, :, None, :]).reshape(R, n, pv * pv)
+            cb = c[pos].reshape(R, n, n, 9).transpose(0, 1, 3, 2)   # (R, a, xy, b)
+            inner = np.matmul(cb, W[:, None]).reshape(R, n, 9 * pv * pv)
+            V = (X[:, :, :, None] * Z[:, :, None, :]).reshape(R, n, pu * pu)
+            return np.matmul(V.transpose(0, 2, 1), inner).reshape(R, pu, pu, 3, 3, pv, pv)
+        half = term(uv, dNu, Nv, Nu, dNv)
+        block = term(uu, dNu, Nv, dNu, Nv) + term(vv, Nu, dNv, Nu, dNv) + half + \
+            half.transpose(0, 2, 1, 4, 3, 6, 5)
+        L = pu * pv
+        block = block.transpose(0, 1, 5, 3, 2, 6, 4).reshape(R, 3 * L, 3 * L)
+        row = (3 * local[:, :, None] + np.arange(3)).reshape(R, 3 * L)
+        keep = np.repeat(local >= 0, 3, axis=1)
+        flat = row[:, :, None] * (3 * k) + row[:, None, :]
+        both = keep[:, :, None] & keep[:, None, :]
+        H += np.bincount(flat[both], block[both], minlength=(3 * k) ** 2)
+    return H.reshape(3 * k, 3 * k)
 
 
 def touched(rects, surface, movable):
@@ -472,7 +555,7 @@ def _design(knots, degree, n):
     """Sparse value and derivative matrices (spans * n, poles) of the B-spline basis at n
     Gauss-Legendre nodes per knot span, and the nodes' weights."""
     b, s = spans(knots, degree)
-    x, w = np.polynomial.legendre.leggauss(n)
+    x, w = gauss(n)
     half = np.diff(b) / 2
     u = ((b[:-1] + half)[:, None] + half[:, None] * x).ravel()
     span = np.repeat(s, n)
