@@ -302,8 +302,26 @@ def is_prismatic(solids, origin, normal, gap, samples=5):
 
 
 def on_planes(planes):
-    """A joint test for `join`: are all these points on one of the (origin, normal) planes?"""
-    return lambda pts: any(np.all(np.abs((pts - o) @ n) < TOL) for o, n in planes)
+    """A joint test for `join`: are all these points on one of the (origin, normal) planes?
+    Its `planes` let joint_vertices test many points at once."""
+    def on_surface(pts):
+        return any(np.all(np.abs((pts - o) @ n) < TOL) for o, n in planes)
+    on_surface.planes = planes
+    return on_surface
+
+
+def joint_vertices(shape, on_surface):
+    """hashCodes of the vertices of `shape` that lie on a joint."""
+    verts = shape.Vertexes
+    pts = np.array([tuple(v.Point) for v in verts]).reshape(-1, 3)
+    planes = getattr(on_surface, "planes", None)
+    if planes is None:
+        mask = [on_surface(p[None]) for p in pts]
+    else:
+        mask = np.zeros(len(pts), bool)
+        for o, n in planes:
+            mask |= np.abs((pts - o) @ n) < TOL
+    return {v.hashCode() for v, m in zip(verts, mask) if m}
 
 
 def join(solids, joints, prop="Plane"):
@@ -384,6 +402,9 @@ def _merged(fused, on_surface):
 
     if len(fused.Solids) != 1:
         return None, f"they make {len(fused.Solids)} solids"
+    solid = _merged_at_joints(fused.Solids[0], on_surface)
+    if solid is not None:
+        return solid, None
     unify = ShapeUpgrade.UnifySameDomain(fused, True, True, False)
     unify.keepShapes([e for e in fused.Edges if not on_joint(e)]
                      + [v for v in fused.Vertexes if not on_joint(v)])
@@ -399,6 +420,87 @@ def _merged(fused, on_surface):
     return None, "the faces at a joint fail OCCT's check"
 
 
+def _merged_at_joints(solid, on_surface, many_wires=8):
+    """`solid` with the faces split at the joints merged, or None where this fails its check.
+
+    Only the faces with a vertex on a joint go through OCCT's UnifySameDomain, and of those
+    only the wires that meet a joint (a face's other holes are put back into the face it
+    merged into): merging a whole 1000-face solid, or faces with hundreds of holes, costs
+    several times the split. The merged faces replace theirs in the solid; the rest of it
+    (the Base's own faces, moved or not) is untouched.
+    """
+    from Part import ShapeUpgrade
+    joint = joint_vertices(solid, on_surface)
+
+    def meets(sub):
+        return any(v.hashCode() in joint for v in sub.Vertexes)
+
+    touched = [f for f in solid.Faces if meets(f)]
+    if not touched:
+        return solid if _valid_at_joints(solid, on_surface) else None
+    reduced, holes = [], []
+    for face in touched:
+        outer = face.OuterWire
+        drop = [w for w in face.Wires if not w.isSame(outer) and not meets(w)]
+        reduced.append(face.removeShape(drop) if len(face.Wires) > many_wires and drop else face)
+        holes.append(drop if reduced[-1] is not face else [])
+    compound = Part.makeCompound(reduced)
+    unify = ShapeUpgrade.UnifySameDomain(compound, True, True, False)
+    unify.setSafeInputMode(False)  # keep the edges the faces share with the rest of `solid`
+    unify.keepShapes([e for e in compound.Edges if not meets(e) or not on_surface(
+        np.array([tuple(v.Point) for v in e.Vertexes]))]
+        + [v for v in compound.Vertexes if v.hashCode() not in joint])
+    try:
+        unify.build()
+        merged = unify.shape().Faces
+    except Part.OCCError:
+        return None
+    edges = [{e.hashCode() for e in f.Edges} for f in merged]
+    for face, drop in zip(reduced, holes):
+        if drop:  # into the merged face that kept the most of this face's edges
+            own = {e.hashCode() for e in face.Edges}
+            shared = [len(own & e) for e in edges]
+            best = int(np.argmax(shared))
+            if shared[best] == 0 or shared.count(shared[best]) > 1:
+                return None
+            merged[best].cutHoles(drop)
+    before = {f.hashCode() for f in touched}
+    after = {f.hashCode() for f in merged}
+    gone = [f for f in touched if f.hashCode() not in after]
+    new = [f for f in merged if f.hashCode() not in before]
+    out = solid
+    if gone and new:  # else nothing merged
+        try:
+            out = solid.removeShape(gone[1:]) if len(gone) > 1 else solid
+            out = out.replaceShape([(gone[0], Part.makeCompound(new))])
+        except Part.OCCError:
+            return None
+    if out.ShapeType != "Solid" or len(out.Faces) != len(solid.Faces) - len(gone) + len(
+            new) or not _valid_faces(merged, meets, many_wires) or not _shells_valid(out):
+        return None
+    return out
+
+
+def _valid_faces(faces, meets, many_wires=8):
+    """OCCT's check of faces that meet a joint; on a face with many holes only of the wires
+    that meet it (BRepCheck of the whole face grows with the square of its holes)."""
+    for face in faces:
+        if len(face.Wires) <= many_wires:
+            ok = face.isValid()
+        else:
+            ok = all(w.isValid() for w in face.Wires if meets(w))
+        if not ok:
+            return False
+    return True
+
+
+def _shells_valid(shape, small_shell=64):
+    """Every shell closed, and every small one (a void's) valid as a whole."""
+    shells = [sh for s in shape.Solids for sh in s.Shells]
+    return all(sh.isClosed() for sh in shells) and all(
+        sh.isValid() for sh in shells if len(sh.Faces) <= small_shell)
+
+
 def _valid_at_joints(shape, on_surface, many_wires=8, small_shell=64):
     """OCCT's check of what the edit made: closed shells, the faces that meet a joint, and
     every small shell whole (a void's: merging the faces across the joint took away the
@@ -408,21 +510,13 @@ def _valid_at_joints(shape, on_surface, many_wires=8, small_shell=64):
     the wires that meet a joint are checked: BRepCheck of the whole face grows with the
     square of its holes and would cost far more than the edit.
     """
-    joint = {v.hashCode() for v in shape.Vertexes if on_surface(np.array([tuple(v.Point)]))}
+    joint = joint_vertices(shape, on_surface)
 
     def meets(sub):
         return any(v.hashCode() in joint for v in sub.Vertexes)
 
-    for face in (f for f in shape.Faces if meets(f)):
-        if len(face.Wires) <= many_wires:
-            ok = face.isValid()
-        else:
-            ok = all(w.isValid() for w in face.Wires if meets(w))
-        if not ok:
-            return False
-    shells = [sh for s in shape.Solids for sh in s.Shells]
-    return all(sh.isClosed() for sh in shells) and all(
-        sh.isValid() for sh in shells if len(sh.Faces) <= small_shell)
+    return _valid_faces([f for f in shape.Faces if meets(f)], meets, many_wires) and \
+        _shells_valid(shape, small_shell)
 
 
 def transformed(shapes, matrix):
@@ -524,16 +618,39 @@ def _check_profiles(profiles, prop):
 
 def crossing_faces(shape, origin, normal):
     """(name, face, section edges) of the faces of `shape` the plane cuts, in face order."""
+    faces = shape.Faces
+    lo, hi = extents(faces, origin, normal)
     found = []
-    for i, face in enumerate(shape.Faces, start=1):
-        lo, hi = extent(face, origin, normal)
-        if lo < -TOL and hi > TOL:
-            # a copy: slicing raises the tolerances of the face's own vertices (the Base's)
-            edges = [e for w in face.copy().slice(vector(normal), float(np.dot(origin, normal)))
-                     for e in w.Edges]
-            if edges:
-                found.append((f"Face{i}", face, edges))
+    for i in np.flatnonzero((lo < -TOL) & (hi > TOL)):
+        face = faces[i]
+        edges = [e for w in _near_wires(face, origin, normal).slice(
+            vector(normal), float(np.dot(origin, normal))) for e in w.Edges]
+        if edges:
+            found.append((f"Face{i + 1}", face, edges))
     return found
+
+
+def _near_wires(face, origin, normal, many_wires=8):
+    """A copy of `face` (slicing raises the tolerances of the face's own vertices, the
+    Base's) without the holes that stay clear of the plane: they cannot meet the section,
+    and slicing a face with hundreds of holes classifies against every one."""
+    if len(face.Wires) <= many_wires:
+        return face.copy()
+    outer = face.OuterWire
+    wires = [w for w in face.Wires if not w.isSame(outer)]
+    lo, hi = extents(wires, origin, normal)
+    clear = [w for w, a, b in zip(wires, lo, hi) if a > TOL or b < -TOL]
+    return (face.removeShape(clear) if clear else face).copy()
+
+
+def extents(shapes, origin, normal):
+    """(min, max) arrays: signed distances of each shape's bounding box to the plane, as
+    extent() for one shape."""
+    boxes = np.array([(b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
+                      for b in (s.BoundBox for s in shapes)]).reshape(-1, 6)
+    low, high = boxes[:, :3] * normal, boxes[:, 3:] * normal
+    at = float(np.dot(origin, normal))
+    return np.minimum(low, high).sum(axis=1) - at, np.maximum(low, high).sum(axis=1) - at
 
 
 def joint_normals(face, edges, samples=7):
