@@ -155,122 +155,147 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     if not np.isfinite(V).all():
         raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
                           "infinity); repair or replace the Base mesh.", "Base")
-    s = (V - o) @ n
+    s = signed(V, o, n)
     check_crossing(s, "Plane", eps, touching=True)
     check_crossing(s - gap, "Plane2", eps, touching=True)
-    V, T, plane_of = slab_cut(V, T, o, n, gap, samples, eps)
-    f = np.empty(len(V))      # the new vertices all lie on a plane, as the snapped ones
-    np.clip(s / gap, 0.0, 1.0, out=f[:len(s)])
-    on = plane_of >= 0
-    f[on] = plane_of[on] / samples
-    return move_by_fraction(V, f, motion_of_s), T
+    W, T, f = slab_cut(V, T, o, n, gap, samples, eps, s)
+    return move_by_fraction(W, f, motion_of_s, in_place=True), T
 
 
-def move_by_fraction(points, f, motion_of_s):
-    """Point i moved by motion_of_s(f[i]); the points with f = 0 returned bit-identical.
+def move_by_fraction(points, f, motion_of_s, in_place=False):
+    """Point i moved by motion_of_s(f[i]); the points with f = 0 returned bit-identical
+    (in_place: the points array itself is written and returned).
 
     A motion with `moved` (twist_motion, bend_motion) moves the points at f = 1 by its one
     end transform and turns those between directly, one Rodrigues rotation per point on
     float arrays; any other goes through its (K, 4, 4) transforms, one per distinct
-    fraction."""
+    fraction. Rows are gathered with take (fancy indexing of rows is 10x slower)."""
     P = np.asarray(points, float)
+    out = P if in_place else P.copy()
     if hasattr(motion_of_s, "moved"):
         end = np.asarray(motion_of_s(1.0), float).reshape(4, 4)
-        out = P @ np.ascontiguousarray(end[:3, :3].T)
-        out += end[:3, 3]
-        near = np.flatnonzero(f <= 0)
-        out[near] = P.take(near, axis=0)
+        far = np.flatnonzero(f >= 1)
+        moved = P.take(far, axis=0) @ np.ascontiguousarray(end[:3, :3].T)
+        moved += end[:3, 3]
         mid = np.flatnonzero((f > 0) & (f < 1))
-        out[mid] = motion_of_s.moved(P.take(mid, axis=0), f.take(mid))
+        turned = motion_of_s.moved(P.take(mid, axis=0), f.take(mid))
+        out[far] = moved
+        out[mid] = turned
         return out
-    move = f > 0
-    out = P.copy()
-    fractions, which = np.unique(f[move], return_inverse=True)   # a plane's points share one
+    move = np.flatnonzero(f > 0)
+    fractions, which = np.unique(f.take(move), return_inverse=True)   # a plane's points share one
     out[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)],
-                           P[move])
+                           P.take(move, axis=0))
     return out
 
 
-def slab_cut(V, T, o, n, gap, samples, eps):
+def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     """The mesh cut at the planes s = gap * j / samples, j = 0..samples, all at once.
 
-    Returns (vertices, triangles, plane_of): plane_of[v] is the plane vertex v lies on, -1
-    for none. Vertices within eps of a plane are snapped onto it; every edge gets one new
-    vertex per plane it crosses (shared by its two triangles, so closed stays closed), and
-    the cut points joined by a section segment shorter than eps are merged. A triangle
-    crossing k planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane):
-    sorted by level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c
-    on the other are zipped from a to c, each quadrilateral between two planes split along
-    its shorter diagonal. The cost is linear in the output (no triangle is cut twice).
-    Original vertices keep their indices, new ones are appended; orientation is kept.
+    Returns (vertices, triangles, fractions): fractions[v] is s / gap of vertex v clipped
+    to [0, 1], exactly j / samples for the vertices on plane j. `s` (V's signed distances
+    to the first plane, computed when not given) is written in place. Vertices within eps
+    of a plane are snapped onto it; every edge gets one new vertex per plane it crosses
+    (shared by its two triangles, so closed stays closed), and the cut points joined by a
+    section segment shorter than eps are merged. A triangle crossing k planes becomes
+    2k + 1 triangles (2k when its middle vertex lies on a plane): sorted by level, its
+    vertices a <= b <= c, the chain a -> c on one side and a -> b -> c on the other are
+    zipped from a to c, each quadrilateral between two planes split along its shorter
+    diagonal. The cost is linear in the output (no triangle is cut twice). Original
+    vertices keep their indices, new ones are appended; orientation is kept; the
+    triangles crossing no plane are kept as they are, in their order, then the new ones.
+    Large rows are gathered with take: fancy indexing of rows is about 10x slower.
     """
     N = len(V)
-    V = V.copy()
+    s = signed(V, o, n) if s is None else s
     h = gap / samples
-    s = (V - o) @ n
-    j = np.clip(np.rint(s / h), 0, samples)
+    j = np.rint(s / h)
+    np.clip(j, 0, samples, out=j)
     d = s - gap * j / samples
-    on = np.abs(d) <= eps
-    V[on] -= d[on, None] * n
-    s[on] -= d[on]
-    plane_of = np.where(on, j, -1).astype(np.int64)
+    snap = np.flatnonzero(np.abs(d) <= eps)
+    d_snap, j_snap = d.take(snap), j.take(snap)
+    s[snap] -= d_snap
     # level in plane units, exact on the planes; clipped so that floor/ceil stay integers
-    u = np.clip(np.where(on, j, s / h), -1.0, samples + 1.0)
+    u = s / h
+    u[snap] = j_snap
+    np.clip(u, -1.0, samples + 1.0, out=u)
+    fractions = s / gap
+    np.clip(fractions, 0.0, 1.0, out=fractions)
+    fractions[snap] = j_snap / samples
     # which triangles cross a plane: only those whose corners are not all in one cell
     # between planes can, and only those are sorted (most triangles of a fine mesh cross
     # none); then from their lowest and highest level alone
-    cell = np.floor(u).astype(np.int32).take(T)
+    cell = np.floor(u).astype(np.int16 if samples < 30000 else np.int32).take(T)
     maybe = np.flatnonzero((cell[:, 0] != cell[:, 1]) | (cell[:, 1] != cell[:, 2]))
-    uT = u.take(T[maybe])
-    u0, u1, u2 = uT.T                                   # (min/max along axis 1 are 5x slower)
+    Tm = T.take(maybe, axis=0)
+    u0, u1, u2 = u.take(Tm).T
     f_ac, n_ac = _planes_between(np.minimum(np.minimum(u0, u1), u2),
                                  np.maximum(np.maximum(u0, u1), u2), samples)
-    hit = n_ac > 0
-    rows = maybe[hit]
+    hit = np.flatnonzero(n_ac)
+    rows = maybe.take(hit)
+    W = np.empty((N + int(n_ac.sum()) * 2 + 1, 3))   # at most two cut edges per plane crossed
+    W[:N] = V
+    W[snap] -= d_snap[:, None] * n
     if not len(rows):
-        return V, T.copy(), plane_of
-    order = np.argsort(uT[hit], axis=1, kind="stable")
-    a, b, c = np.take_along_axis(T[rows], order, axis=1).T
-    ua, ub, uc = u[a], u[b], u[c]
-    odd = (order[:, 1] - order[:, 0]) % 3 != 1      # sorting reversed orientation
-    f_ac, n_ac = f_ac[hit], n_ac[hit]
+        return W[:N], T.copy(), fractions
+    a, b, c, odd = _sorted_corners(Tm.take(hit, axis=0), u0.take(hit), u1.take(hit),
+                                   u2.take(hit))
+    ua, ub, uc = u.take(a), u.take(b), u.take(c)
+    f_ac, n_ac = f_ac.take(hit), n_ac.take(hit)
     f_ab, n_ab = _planes_between(ua, ub, samples)
     f_bc, n_bc = _planes_between(ub, uc, samples)
 
-    # one new vertex per (edge, plane): the edges keyed by their sorted vertex indices
+    # one new vertex per (edge, plane) for the edges that cross one, keyed by their sorted
+    # vertex indices
     lo = np.concatenate([a, b, a])
     hi = np.concatenate([b, c, c])
-    _, first, inv = np.unique(np.minimum(lo, hi) * N + np.maximum(lo, hi),
+    counts = np.concatenate([n_ab, n_bc, n_ac])
+    crossing = np.flatnonzero(counts)
+    lo_x, hi_x = lo.take(crossing), hi.take(crossing)
+    _, first, inv = np.unique(np.minimum(lo_x, hi_x) * N + np.maximum(lo_x, hi_x),
                               return_index=True, return_inverse=True)
     m = len(a)
-    e_ab, e_bc, e_ac = np.split(inv.reshape(-1), 3)
-    e_first = np.concatenate([f_ab, f_bc, f_ac])[first]
-    e_count = np.concatenate([n_ab, n_bc, n_ac])[first]
+    e_of = np.full(3 * m, -1)
+    e_of[crossing] = inv.reshape(-1)
+    e_ab, e_bc, e_ac = np.split(e_of, 3)
+    e_first = np.concatenate([f_ab, f_bc, f_ac]).take(crossing.take(first))
+    e_count = counts.take(crossing.take(first))
     e_start = np.cumsum(e_count) - e_count
-    p, q = lo[first], hi[first]
+    p, q = lo_x.take(first), hi_x.take(first)
     edge, k = _ranges(e_count)
-    jp = e_first[edge] + k
+    jp = e_first.take(edge) + k
     level = gap * jp / samples
-    dp, dq = s[p[edge]] - level, s[q[edge]] - level
-    P = V[p[edge]] + (dp / (dp - dq))[:, None] * (V[q[edge]] - V[p[edge]])
+    pe, qe = p.take(edge), q.take(edge)
+    dp = s.take(pe) - level
+    dq = s.take(qe) - level
+    Wp = W.take(pe, axis=0)
+    P = W.take(qe, axis=0)
+    P -= Wp
+    P *= (dp / (dp - dq))[:, None]
+    P += Wp
     P -= ((P - o) @ n - level)[:, None] * n
 
     def raw(e, jj):                       # index in P of edge e's point on plane jj
-        return e_start[e] + jj - e_first[e]
+        return e_start.take(e) + jj - e_first.take(e)
 
     # the section segments: on each plane a triangle crosses, its long chain's point to its
     # short chain's (b itself when b lies on that plane)
     t, i = _ranges(n_ac)
-    jj = f_ac[t] + i
-    short = np.where(jj < ub[t], raw(e_ab[t], jj), raw(e_bc[t], jj))
-    seg = np.stack([raw(e_ac[t], jj), short], 1)[jj != ub[t]]
+    jj = f_ac.take(t) + i
+    ubt = ub.take(t)
+    short = np.where(jj < ubt, raw(np.maximum(e_ab.take(t), 0), jj),
+                     raw(np.maximum(e_bc.take(t), 0), jj))
+    seg = np.stack([raw(e_ac.take(t), jj), short], 1)[jj != ubt]
     P, label = _merge_segments(P, seg, eps)
-    W = np.concatenate([V, P])
-    plane_of = np.concatenate([plane_of, np.empty(len(P), np.int64)])
-    plane_of[N + label] = jp
+    K = len(P)
+    W = W[:N + K]
+    W[N:] = P
+    on_plane = np.empty(K)
+    on_plane[label] = jp / samples
+    fractions = np.concatenate([fractions, on_plane])
 
     def point(e, jj):
-        return N + label[raw(e, jj)]
+        return N + label.take(raw(e, jj))
 
     # the events of each triangle (the vertices of its two chains after a) in level order,
     # ties put the long chain (a -> c) first
@@ -282,27 +307,28 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     lvl = np.empty(E)
 
     def place(t, pos, v, lv, is_long):
-        g = offset[t] + pos
+        g = offset.take(t) + pos
         vert[g], lvl[g], long[g] = v, lv, is_long
 
     def below(jj, first_, count_):        # how many of a chain's planes lie below jj
         return np.clip(jj - first_, 0, count_)
 
     t, i = _ranges(n_ac)                  # the long chain's cut points, then c
-    jj = f_ac[t] + i
-    place(t, i + below(jj, f_ab[t], n_ab[t]) + (ub[t] < jj) + below(jj, f_bc[t], n_bc[t]),
-          point(e_ac[t], jj), jj, True)
+    jj = f_ac.take(t) + i
+    place(t, i + below(jj, f_ab.take(t), n_ab.take(t)) + (ub.take(t) < jj)
+          + below(jj, f_bc.take(t), n_bc.take(t)), point(e_ac.take(t), jj), jj, True)
     t = np.arange(m)
     place(t, n_ac + n_ab + (ub < uc) + n_bc, c, uc, True)
     t, i = _ranges(n_ab)                  # the short chain: cut points of ab, b, of bc, c
-    jj = f_ab[t] + i
-    place(t, i + below(jj + 1, f_ac[t], n_ac[t]), point(e_ab[t], jj), jj, False)
+    jj = f_ab.take(t) + i
+    place(t, i + below(jj + 1, f_ac.take(t), n_ac.take(t)), point(e_ab.take(t), jj), jj, False)
     t = np.arange(m)
     place(t, n_ab + below(np.floor(ub).astype(np.int64) + 1, f_ac, n_ac) + (uc <= ub), b, ub,
           False)
     t, i = _ranges(n_bc)
-    jj = f_bc[t] + i
-    place(t, n_ab[t] + 1 + i + below(jj + 1, f_ac[t], n_ac[t]), point(e_bc[t], jj), jj, False)
+    jj = f_bc.take(t) + i
+    place(t, n_ab.take(t) + 1 + i + below(jj + 1, f_ac.take(t), n_ac.take(t)),
+          point(e_bc.take(t), jj), jj, False)
     t = np.arange(m)
     place(t, count - 1, c, uc, False)
 
@@ -310,32 +336,58 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     # vertex, the event's vertex); the current vertices start at a
     tri = np.repeat(np.arange(m), count)
     idx = np.arange(E)
-    start = offset[tri]
+    start = offset.take(tri)
+    at_a = a.take(tri)
     last_long = np.maximum.accumulate(np.where(long, idx, -1))
     last_short = np.maximum.accumulate(np.where(long, -1, idx))
-    prev_long = np.concatenate([[-1], last_long[:-1]])
-    prev_short = np.concatenate([[-1], last_short[:-1]])
-    cur_long = np.where(prev_long >= start, vert[np.maximum(prev_long, 0)], a[tri])
-    cur_short = np.where(prev_short >= start, vert[np.maximum(prev_short, 0)], a[tri])
-    new = np.stack([cur_long, cur_short, vert], 1)
+    new = np.empty((E, 3), np.int64)
+    cur_long, cur_short = new[:, 0], new[:, 1]
+    new[0, :2] = a[0]
+    cur_long[1:] = np.where(last_long[:-1] >= start[1:], vert.take(np.maximum(last_long[:-1], 0)),
+                            at_a[1:])
+    cur_short[1:] = np.where(last_short[:-1] >= start[1:],
+                             vert.take(np.maximum(last_short[:-1], 0)), at_a[1:])
+    new[:, 2] = vert
     # a long event followed by a short one on the same level closes a quadrilateral
     # (Lp, Sp, Sj, Lj) split along Sp-Lj; take Lp-Sj instead when it is shorter
     x = np.flatnonzero(long[:-1] & ~long[1:] & (tri[:-1] == tri[1:]) & (lvl[:-1] == lvl[1:]))
-    Lp, Sp, Lj, Sj = cur_long[x], cur_short[x], vert[x], vert[x + 1]
-    flip = np.linalg.norm(W[Lp] - W[Sj], axis=1) < np.linalg.norm(W[Sp] - W[Lj], axis=1)
+    Lp, Sp, Lj, Sj = cur_long.take(x), cur_short.take(x), vert.take(x), vert.take(x + 1)
+    flip = _length(W, Lp, Sj) < _length(W, Sp, Lj)
     x, Lp, Sp, Lj, Sj = x[flip], Lp[flip], Sp[flip], Lj[flip], Sj[flip]
     new[x] = np.stack([Lp, Sp, Sj], 1)
     new[x + 1] = np.stack([Lp, Sj, Lj], 1)
-    rev = odd[tri]
-    new[rev] = new[rev][:, ::-1]
+    rev = np.flatnonzero(odd.take(tri))
+    new[rev] = new.take(rev, axis=0)[:, ::-1]
     new = without_flat(new)
     kept = len(T) - len(rows)                 # the triangles crossing no plane, then the new
     out = np.empty((kept + len(new), 3), np.int64)
     keep = np.ones(len(T), bool)
     keep[rows] = False
-    np.compress(keep, T, axis=0, out=out[:kept])
+    T.take(np.flatnonzero(keep), axis=0, out=out[:kept], mode="clip")   # compress(out=) is 5x slower
     out[kept:] = new
-    return W, without_flat(out), plane_of
+    return W, out, fractions
+
+
+def _sorted_corners(Tr, u0, u1, u2):
+    """Each triangle's corners (a, b, c) sorted by level, ties kept in corner order, and
+    whether that order reverses the triangle's orientation: compare-and-swap on columns."""
+    ids = [np.ascontiguousarray(col) for col in Tr.T]
+    lv = [u0, u1, u2]
+    pos = [np.full(len(Tr), k, np.int8) for k in range(3)]
+    for x, y in ((0, 1), (1, 2), (0, 1)):            # a stable bubble sort of three
+        swap = lv[y] < lv[x]
+        for arr in (ids, lv, pos):
+            arr[x], arr[y] = np.where(swap, arr[y], arr[x]), np.where(swap, arr[x], arr[y])
+    odd = (pos[1] - pos[0]) % 3 != 1
+    return ids[0], ids[1], ids[2], odd
+
+
+def _length(W, i, j):
+    """Distances between the rows i and j of W."""
+    d = W.take(i, axis=0)
+    d -= W.take(j, axis=0)
+    d *= d
+    return np.sqrt(d.sum(axis=1))
 
 
 def _merge_segments(P, segments, eps):
