@@ -14,8 +14,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from scipy.linalg import cho_factor, cho_solve
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
+from scipy.sparse.linalg import ArpackNoConvergence, eigsh
 from scipy.spatial import cKDTree
 
 from .bspline_area import (GridQuadrature, basis, find_span, grid_quadrature, grid_refined,
@@ -63,8 +65,8 @@ def coincident(poles, movable):
     return list(groups.values()), held
 
 
-def directions(poles, groups, dof, surface=None, sparse=False):
-    """(3k, n) matrix D (displacements of the poles of `groups`, in order, = D @ t; its
+def directions(poles, groups, dof, surface=None):
+    """(3k, n) sparse matrix D (displacements of the poles of `groups`, in order, = D @ t; its
     columns are orthonormal so |t| is the displacement's norm) and the poles whose Normal
     fell back. Free: 3 per group; Z: z only; Normal: along the control-net normal, the mean
     of the unit normals of the net's triangles around the pole (the paper's proposal,
@@ -99,7 +101,7 @@ def directions(poles, groups, dof, surface=None, sparse=False):
         col += d.shape[1]
     D = coo_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
                    (row, col)).tocsr()
-    return (D if sparse else D.toarray()), tuple(sorted(fallbacks))
+    return D, tuple(sorted(fallbacks))
 
 
 def net_normal(poles, flat_index):
@@ -163,8 +165,9 @@ def fallback_normal(poles, flat_index, surface):
 
 
 class Problem:
-    """Area, gradient and Hessian as functions of the reduced variables t (n,)."""
-    sparse = False
+    """Area, gradient and Hessian as functions of the reduced variables t (n,); D is
+    sparse (a pole's few columns), so the reduced Hessian D^T H D costs O(n^2)."""
+    sparse = False          # True: the large, matrix-free solve
 
     def __init__(self, quadrature, poles, movable, dof):
         self.q = quadrature
@@ -174,8 +177,8 @@ class Problem:
             raise DeformError("Every pole in Poles coincides with a pole that stays (a "
                               "collapsed edge); list other poles.", "Poles")
         self.movable = np.array([m for g in groups for m in g], int)
-        self.D, self.fallbacks = directions(self.Q, groups, dof, quadrature.surface,
-                                            self.sparse)
+        self.D, self.fallbacks = directions(self.Q, groups, dof, quadrature.surface)
+        self.Dt = self.D.T.tocsr()
 
     def poles(self, t):
         P = self.Q.reshape(-1, 3).copy()
@@ -187,13 +190,13 @@ class Problem:
 
     def gradient(self, t):
         a, g = self.q.gradient(self.poles(t), self.movable)
-        return a, self.D.T @ g.ravel()
+        return a, self.Dt @ g.ravel()
 
     exact = False       # True: the Hessian from the area's own nodes, not the light rule
 
     def hessian(self, t):
         H = self.q.hessian(self.poles(t), self.movable, self.exact)
-        return self.D.T @ H @ self.D
+        return np.asarray((self.Dt @ H) @ self.D)
 
     def step(self, t, lam, g, c):
         """The Newton step (dt, new lambda) of the KKT system at (t, lam)."""
@@ -336,25 +339,38 @@ def continued(problem, target, start=None, steps=4):
 def _kkt_step(W, g, t, c):
     """Solve [[W, g], [g^T, 0]] [dt, lambda] = [-t, -c]. W need only be positive definite
     on the constraint's tangent space (then dt is a descent direction): W + sigma g g^T
-    positive definite for a large sigma says so; else W is shifted on the whole space.
+    positive definite for a large sigma says so, and its Cholesky factor solves the
+    system (g^T dt = -c makes the added term a shift of lambda by sigma c); else W is
+    shifted on the whole space by the least 1e-8 scale 2^k that makes it definite, k
+    found from W's smallest eigenvalue (Lanczos) instead of by doubling.
     (Shifting whenever W itself is indefinite made Newton crawl on large moves.)"""
     n = len(t)
-
-    def definite(M):
-        try:
-            np.linalg.cholesky(M)
-            return True
-        except np.linalg.LinAlgError:
-            return False
     scale = max(1.0, np.abs(W).max())
-    if not definite(W) and not definite(W + 1e3 * scale / (g @ g) * np.outer(g, g)):
-        shift = 1e-8 * scale
-        while not definite(W + shift * np.eye(n)):
-            shift *= 2
-        W = W + shift * np.eye(n)
-    K = np.block([[W, g[:, None]], [g[None, :], np.zeros((1, 1))]])
-    x = np.linalg.solve(K, np.concatenate([-t, [-c]]))
-    return x[:n], float(x[n])
+    sigma = 1e3 * scale / (g @ g)
+    factor = _cholesky(W + sigma * np.outer(g, g))
+    if factor is None:
+        sigma, base = 0.0, 1e-8 * scale
+        try:
+            low = float(eigsh(W, k=1, which="SA", v0=np.ones(n), tol=1e-6,
+                              return_eigenvectors=False)[0])
+        except (ArpackNoConvergence, ValueError):  # ValueError: n too small for ARPACK
+            low = float(np.linalg.eigvalsh(W)[0])
+        k = int(np.ceil(np.log2(max(-low, base) / base)))
+        while factor is None:
+            shift = base * 2.0 ** k
+            factor = _cholesky(W + shift * np.eye(n))
+            k += 1
+    a, b = cho_solve(factor, t, check_finite=False), cho_solve(factor, g, check_finite=False)
+    mu = (c - g @ a) / (g @ b)
+    return -a - mu * b, float(mu - sigma * c)
+
+
+def _cholesky(M):
+    """The Cholesky factor of M for cho_solve, or None when M is not positive definite."""
+    try:
+        return cho_factor(M, lower=True, check_finite=False)
+    except np.linalg.LinAlgError:
+        return None
 
 
 def on_constraint(problem, target, direction, s=0.0):

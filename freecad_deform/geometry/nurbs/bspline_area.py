@@ -448,7 +448,7 @@ def _tensor_hessian(tensor, uu, vv, uv, position, k):
     sum_(a,b) R_i c R_j with R_i = X[a, i1] Y[b, i2] and R_j = Z[a, j1] T[b, j2] is summed
     over b first (the rule's v nodes), then over a: two small matrix products per
     rectangle instead of one over all n^2 nodes. The blocks go into H by bincount."""
-    H = np.zeros((3 * k) ** 2)
+    H = np.zeros((3 * k) ** 2 + 1)
     for r in tensor:
         R, n, pu = r.Nu.shape
         pv = r.Nv.shape[2]
@@ -474,9 +474,10 @@ def _tensor_hessian(tensor, uu, vv, uv, position, k):
         row = (3 * local[:, :, None] + np.arange(3)).reshape(R, 3 * L)
         keep = np.repeat(local >= 0, 3, axis=1)
         flat = row[:, :, None] * (3 * k) + row[:, None, :]
-        both = keep[:, :, None] & keep[:, None, :]
-        H += np.bincount(flat[both], block[both], minlength=(3 * k) ** 2)
-    return H.reshape(3 * k, 3 * k)
+        if not keep.all():      # entries of poles that stay go to one extra bin
+            flat = np.where(keep[:, :, None] & keep[:, None, :], flat, (3 * k) ** 2)
+        H += np.bincount(flat.ravel(), block.ravel(), minlength=(3 * k) ** 2 + 1)
+    return H[:-1].reshape(3 * k, 3 * k)
 
 
 def touched(rects, surface, movable):
