@@ -271,109 +271,6 @@ def triangles_of(shape, tol=0.5):
     return np.array([tuple(p) for p in pts], float).reshape(-1, 3), np.array(tris, int).reshape(-1, 3)
 
 
-def refined(vertices, triangles, max_edge, cap=150_000):
-    """Triangles bisected at their longest edge until no edge exceeds max_edge (or there are
-    `cap` of them), so the painter's algorithm of matplotlib's 3D axes sorts them well.
-    Only a picture needs this: the T-junctions it leaves do not matter there."""
-    V, T = vertices, triangles
-    for _ in range(24):
-        p = V[T]
-        length = np.linalg.norm(p - np.roll(p, -1, axis=1), axis=2)   # edge k: corner k -> k+1
-        k = length.argmax(axis=1)
-        long = length.max(axis=1) > max_edge
-        if not long.any() or len(T) + long.sum() > cap:
-            break
-        turn = (k[long, None] + np.arange(3)) % 3
-        a, b, c = np.take_along_axis(T[long], turn, axis=1).T
-        m = len(V) + np.arange(len(a))
-        V = np.concatenate([V, 0.5 * (V[a] + V[b])])
-        T = np.concatenate([T[~long], np.stack([a, m, c], 1), np.stack([m, b, c], 1)])
-    return V, T
-
-
-def shaded(vertices, triangles, color):
-    """The triangles' corners and RGBA colours lit from one direction (both sides lit)."""
-    p = vertices[triangles]
-    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    n /= np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
-    light = np.array([-0.3, -0.8, 0.5])
-    shade = 0.3 + 0.7 * np.abs(n @ (light / np.linalg.norm(light)))
-    rgb = np.clip(np.asarray(color)[None, :] * shade[:, None], 0, 1)
-    return p, np.column_stack([rgb, np.ones(len(p))])
-
-
-def plane_quads(planes, lo, hi, pieces=12):
-    """Each separating plane as a grid of translucent quads across the box (lo, hi): small
-    pieces, so the painter's algorithm puts each one in front of or behind the part."""
-    quads = []
-    for origin, normal in planes:
-        k = int(np.argmax(np.abs(normal)))
-        i, j = [a for a in range(3) if a != k]
-        a = np.linspace(lo[i], hi[i], pieces + 1)
-        b = np.linspace(lo[j], hi[j], pieces + 1)
-        for a0, a1 in zip(a, a[1:]):
-            for b0, b1 in zip(b, b[1:]):
-                quad = np.zeros((4, 3))
-                quad[:, i], quad[:, j], quad[:, k] = (a0, a1, a1, a0), (b0, b0, b1, b1), origin[k]
-                quads.append(quad)
-    return quads
-
-
-def picture(path, title, panels, planes_before=(), planes_after=(), view=(22, -120)):
-    """Before and after side by side, in one common box so both are at the same scale.
-
-    panels: two (label, kind, data) with kind "solid" (vertices, triangles), "mesh" (the same,
-    facet edges drawn) or "points" (an (N, 3) array).
-    """
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-    allpts = np.vstack([d[0] if kind != "points" else d for _, kind, d in panels])
-    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
-    pad = 0.03 * (hi - lo).max()
-    lo, hi = lo - pad, hi + pad
-    fig = plt.figure(figsize=(14, 6.4), dpi=110)
-    for k, ((label, kind, data), planes) in enumerate(zip(panels, (planes_before, planes_after))):
-        ax = fig.add_subplot(1, 2, k + 1, projection="3d")
-        quads = plane_quads(planes, lo, hi)
-        plane_rgba = np.tile([0.9, 0.15, 0.1, 0.22], (len(quads), 1))
-        if kind == "points":
-            pick = np.random.default_rng(0).choice(len(data), size=min(len(data), 60000), replace=False)
-            q = data[pick]
-            ax.scatter(q[:, 0], q[:, 1], q[:, 2], s=0.3, c=q[:, 0], cmap="viridis", depthshade=False)
-            if quads:
-                ax.add_collection3d(Poly3DCollection(quads, facecolors=plane_rgba, edgecolors="none"))
-        else:
-            polys, rgba = shaded(*data, color=(0.55, 0.7, 0.92) if k == 0 else (0.98, 0.72, 0.42))
-            # facets edged in their own colour (no hairline seams between them), a mesh's
-            # in grey; part and planes in one collection, so they are depth-sorted together
-            edges = np.tile([0.2, 0.2, 0.2, 0.5], (len(rgba), 1)) if kind == "mesh" else rgba
-            ax.add_collection3d(Poly3DCollection(
-                list(polys) + quads, facecolors=np.vstack([rgba, plane_rgba]),
-                edgecolors=np.vstack([edges, np.tile([0.8, 0.1, 0.0, 0.0], (len(quads), 1))]),
-                linewidths=0.2 if kind == "mesh" else 0.3))
-        ax.set_xlim(lo[0], hi[0])
-        ax.set_ylim(lo[1], hi[1])
-        ax.set_zlim(lo[2], hi[2])
-        ax.set_box_aspect(hi - lo)          # equal scale on the three axes
-        ax.view_init(elev=view[0], azim=view[1])
-        ax.set_xlabel("X (mm)")
-        ax.set_ylabel("Y (mm)")
-        ax.set_zlabel("Z (mm)")
-        ax.tick_params(labelsize=7)
-        ax.set_title(label, fontsize=11)
-    fig.suptitle(title, fontsize=13)
-    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.9, wspace=0.0)
-    fig.savefig(path)
-    plt.close(fig)
-
-
-def solid_panel(shape, label):
-    v, t = triangles_of(shape)
-    return label, "solid", refined(v, t, 0.04 * shape.BoundBox.DiagonalLength)
-
-
 # ---------------------------------------------------------------------------- the demo
 
 def stretch_checks(rep, base_shape, obj, origin, normal, distance):
@@ -454,7 +351,7 @@ class Demo:
 
     def __init__(self, out):
         self.out, self.rep, self.timings, self.exports = out, Report(), {}, []
-        self.features, self.seconds = [], 0.0
+        self.features, self.seconds, self.jobs = [], 0.0, []
         self.sample_path = os.path.join(TESTDATA, "face_recognition_sample_part.stp")
         self.as1_path = os.path.join(TESTDATA, "as1_pe_203.stp")
         for path in (self.sample_path, self.as1_path):
@@ -508,8 +405,12 @@ class Demo:
         obj.Shape.exportStep(os.path.join(self.out, name))
         self.exports.append(name)
 
-    def picture(self, name, *args):
-        picture(os.path.join(self.out, name), *args)
+    def picture(self, name, title, obj, view=(22, -120), document=None):
+        """Ask for a before/after picture of `obj` (of demo.FCStd, or of `document`), seen
+        from elevation and azimuth `view` (degrees); pictures() renders them all at the end."""
+        self.jobs.append({"png": os.path.join(self.out, name), "title": title,
+                          "object": obj.Name, "type": obj.Proxy.TYPE, "view": view,
+                          "document": document or os.path.join(self.out, "demo.FCStd")})
 
     # -- 1. one plane, +40 mm along +X at x = 150
     def one_plane(self):
@@ -529,9 +430,7 @@ class Demo:
                          "A x d (A: Shape.slice section)",
                          abs(obj.VolumeChange - area * distance) / (area * distance), REL)
         self.export_step(obj, "stretch.step")
-        self.picture("stretch.png", "Stretch: +40 mm along +X at x = 150",
-                     [solid_panel(shape, "before"), solid_panel(obj.Shape, "after")],
-                     [(origin, normal)], [(origin, normal), (origin + distance * normal, normal)])
+        self.picture("stretch.png", "Stretch: +40 mm along +X at x = 150", obj)
 
     # -- 2. two planes: z = 100 .. 150 stretched by 30 mm
     def two_planes(self):
@@ -579,9 +478,7 @@ class Demo:
                   shape.BoundBox.ZLength + distance, rel=1e-9)
         continuity_check(rep, shape, obj, [o1, o2], normal)
         self.export_step(obj, "two_planes.step")
-        self.picture("two_planes.png", "TwoPlanes: z = 100 .. 150 stretched by 30 mm along +Z",
-                     [solid_panel(shape, "before"), solid_panel(result, "after")],
-                     [(o1, normal), (o2, normal)], [(o1, normal), (o2 + distance * normal, normal)])
+        self.picture("two_planes.png", "TwoPlanes: z = 100 .. 150 stretched by 30 mm along +Z", obj)
 
     # -- 3. shrink by 40 mm along +X at x = 150
     def shrink(self):
@@ -603,9 +500,7 @@ class Demo:
                   shape.BoundBox.XLength - width, rel=1e-9)
         continuity_check(rep, shape, obj, [origin], normal)
         self.export_step(obj, "shrink.step")
-        self.picture("shrink.png", "Shrink: -40 mm along +X at x = 150",
-                     [solid_panel(shape, "before"), solid_panel(result, "after")],
-                     [(origin, normal), (origin + width * normal, normal)], [(origin, normal)])
+        self.picture("shrink.png", "Shrink: -40 mm along +X at x = 150", obj)
 
     # -- 4. a mesh of the part
     def mesh(self):
@@ -632,12 +527,7 @@ class Demo:
         before.write(os.path.join(self.out, "sample_mesh.stl"))
         mesh.write(os.path.join(self.out, "mesh_stretch.stl"))
         self.exports += ["sample_mesh.stl", "mesh_stretch.stl"]
-        panels = []
-        for label, m in (("before", before), ("after", mesh)):
-            points, facets = m.Topology
-            panels.append((label, "mesh", (points_of(points), np.array(facets, int))))
-        self.picture("mesh_stretch.png", "MeshStretch: +40 mm along +X at x = 150", panels,
-                     [(origin, normal)], [(origin, normal), (origin + distance * normal, normal)])
+        self.picture("mesh_stretch.png", "MeshStretch: +40 mm along +X at x = 150", obj)
 
     # -- 5. a point cloud sampled on the part
     def cloud(self):
@@ -670,9 +560,7 @@ class Demo:
         cloud_base.Points.write(os.path.join(self.out, "sample_cloud.ply"))
         obj.Points.write(os.path.join(self.out, "cloud_stretch.ply"))
         self.exports += ["sample_cloud.ply", "cloud_stretch.ply"]
-        self.picture("cloud_stretch.png", "CloudStretch: +40 mm along +X at x = 150",
-                     [("before", "points", cloud), ("after", "points", out_pts)],
-                     [(origin, normal)], [(origin, normal), (origin + distance * normal, normal)])
+        self.picture("cloud_stretch.png", "CloudStretch: +40 mm along +X at x = 150", obj)
 
     # -- 6. the AS1 assembly
     def assembly(self):
@@ -709,8 +597,7 @@ class Demo:
         self.export_step(as1_base, "as1.step")
         self.export_step(obj, "as1_stretch.step")
         self.picture("as1_stretch.png", f"AS1Stretch: +{distance:g} mm along +X at x = {origin[0]:g}",
-                     [solid_panel(as1, "before"), solid_panel(result, "after")],
-                     [(origin, normal)], [(origin, normal), (origin + distance * normal, normal)])
+                     obj)
 
     # -- 7. bend at x = 150 by -60 deg about an axis in the plane
     def bend(self):
@@ -754,8 +641,7 @@ class Demo:
                          tangent=bend_tangent(origin, normal, *axis))
         self.export_step(obj, "bend.step")
         self.picture("bend.png", "Bend: -60 deg at x = 150 about the axis through (150, 0, 260) "
-                     "along +Y", [solid_panel(shape, "before"), solid_panel(result, "after")],
-                     [(origin, normal)], [(origin, normal)])
+                     "along +Y", obj)
 
     # -- 8. two planes: the slab x = 90 .. 140 bent by -60 deg
     def two_plane_bend(self):
@@ -797,9 +683,7 @@ class Demo:
         continuity_check(rep, shape, obj, [o1, o2], normal, tangent=bend_tangent(o1, normal, *axis))
         self.export_step(obj, "two_plane_bend.step")
         self.picture("two_plane_bend.png", "TwoPlaneBend: x = 90 .. 140 bent by -60 deg about the "
-                     "axis through (90, 0, 260) along +Y",
-                     [solid_panel(shape, "before"), solid_panel(result, "after")],
-                     [(o1, normal), (o2, normal)], [(o1, normal)])
+                     "axis through (90, 0, 260) along +Y", obj)
 
     # -- 9. a bar twisted by 90 deg between two planes
     def twist(self):
@@ -850,8 +734,7 @@ class Demo:
         self.export_step(base, "bar.step")
         self.export_step(obj, "twist.step")
         self.picture("twist.png", "Twist: a 60 x 20 x 150 bar, 90 deg between z = 40 and z = 110",
-                     [solid_panel(bar, "before"), solid_panel(result, "after")],
-                     [(o1, normal), (o2, normal)], [(o1, normal), (o2, normal)], (18, -60))
+                     obj, (18, -60))
 
     # -- 10. the mesh of the part, bent like Bend
     def mesh_bend(self):
@@ -895,12 +778,8 @@ class Demo:
                   note="float32 storage")
         mesh.write(os.path.join(self.out, "mesh_bend.stl"))
         self.exports.append("mesh_bend.stl")
-        panels = []
-        for label, m in (("before", before), ("after", mesh)):
-            points, facets = m.Topology
-            panels.append((label, "mesh", (points_of(points), np.array(facets, int))))
         self.picture("mesh_bend.png", "MeshBend: -60 deg at x = 150 about the axis through "
-                     "(150, 0, 260) along +Y", panels, [(origin, normal)], [(origin, normal)])
+                     "(150, 0, 260) along +Y", obj)
 
     # -- 11. the paper's turbine blade (Fig. 9): extended 3x, then twisted by 30 deg
     def blade(self):
@@ -972,10 +851,8 @@ class Demo:
         base.Points.write(os.path.join(self.out, "blade_cloud.ply"))
         twist.Points.write(os.path.join(self.out, "blade_twist.ply"))
         self.exports += ["blade_cloud.ply", "blade_twist.ply"]
-        self.picture("blade.png", "Blade: airfoil extended 3x (BladeStretch), then twisted by "
-                     "30 deg (BladeTwist)", [("before", "points", cloud),
-                                             ("after", "points", twisted)],
-                     [(np.zeros(3), Z), (span * Z, Z)], [(np.zeros(3), Z), (top * Z, Z)], (32, -60))
+        self.picture("blade.png", "BladeTwist: the airfoil extended 3x (BladeStretch), twisted by "
+                     "30 deg", twist, (32, -60))
 
     # -- 12. Taper: a bar's middle scaled to 0.6 across its axis
     def taper(self):
@@ -1014,8 +891,7 @@ class Demo:
                          abs(result.Volume - closed) / closed, REL)
         self.export_step(obj, "taper.step")
         self.picture("taper.png", "Taper: a 60 x 40 x 150 bar, scale 0.6 between z = 40 and "
-                     "z = 110", [solid_panel(bar, "before"), solid_panel(result, "after")],
-                     [(o1, normal), (o2, normal)], [(o1, normal), (o2, normal)], (18, -60))
+                     "z = 110", obj, (18, -60))
 
     # -- 13. DimensionDrive: the fandisk's thickness 4.8279 -> 4.65
     def dimension_drive(self):
@@ -1071,9 +947,7 @@ class Demo:
         obj.Mesh.write(os.path.join(self.out, "dimension_drive.stl"))
         self.exports.append("dimension_drive.stl")
         self.picture("dimension_drive.png", "DimensionDrive: the fandisk's plane x = 4.83 "
-                     "driven to 4.65 mm from x = 0",
-                     [("before", "mesh", (v0, t0)), ("after", "mesh", (v1, t1))],
-                     planes, [(planes[0][0] - (4.8279 - target) * X, X), planes[1]], (25, -35))
+                     "driven to 4.65 mm from x = 0", obj, (25, -35))
 
     def _splinecage(self):
         if not hasattr(self, "cage"):
@@ -1116,8 +990,7 @@ class Demo:
                          "converged Gauss quadrature of the B-spline's area",
                          abs(a1 / a0 - ratio) / ratio, 1e-10)
         self.export_step(obj, "area_constrain.step")
-        self.picture("area_constrain.png", "AreaConstrain: splinecage Face2 +3 %",
-                     [solid_panel(face, "before (Face2)"), solid_panel(new, "after")])
+        self.picture("area_constrain.png", "AreaConstrain: splinecage Face2 +3 %", obj)
 
     # -- 15. DirectPush: a point of the same face pushed along its normal
     def direct_push(self):
@@ -1149,9 +1022,7 @@ class Demo:
                          "OCCT distToShape(result, target) / face size", landed / size, 1e-7)
         self.export_step(obj, "direct_push.step")
         self.picture("direct_push.png", "DirectPush: a point of splinecage Face2 pushed 2 % "
-                     "of its size", [solid_panel(face, "before (Face2)"), solid_panel(min(
-                         result.Faces, key=lambda f: (f.CenterOfMass - face.CenterOfMass).Length),
-                         "after (Face2)")])
+                     "of its size", obj)
 
     # -- 16. the command line: a sweep, a goal seek and reach
     def batch(self):
@@ -1224,10 +1095,8 @@ class Demo:
             rep.check("reach: isValid(), one solid", [result.isValid(), len(result.Solids)],
                       [True, 1])
             self.picture("reach.png", "reach: the bracket's end hole made to land by a slide "
-                         "and a 3 deg turn (key frames)", [solid_panel(bracket, "before"),
-                                                           solid_panel(result, "after")],
-                         [(np.array([120.0, 0, 0]), X)], [(np.array([120.0, 0, 0]), X)],
-                         (35, -70))
+                         "and a 3 deg turn (key frames)", doc.getObject("Stretch"), (35, -70),
+                         os.path.join(folder, "reached.FCStd"))
         finally:
             App.closeDocument(doc.Name)
 
@@ -1257,6 +1126,69 @@ class Demo:
             obj = doc.getObject(name)
             rep.check(f"{obj.Label}: {'facets' if hasattr(obj, 'Mesh') else 'points'} after "
                       f"reopen + recompute", _count(obj), count)
+
+
+    # -- 18. the pictures, by FreeCAD's own 3D view
+    def pictures(self):
+        rep = self.rep
+        rep.section("Pictures", "Each feature's Base (before, blue) and result (after, orange) "
+                    "from one camera in FreeCAD's 3D view (the GUI under xvfb-run, "
+                    "examples/demo_pictures.py), its task panel open as a user opens it: the "
+                    "planes in use as translucent red sheets, the axis as a red line, the "
+                    "handles (draggers); DimensionDrive, AreaConstrain and DirectPush show "
+                    "what their panels show.")
+        done, seconds = render(self.jobs, self.out)
+        rep.fact("rendered", f"{len(done['done'])} of {len(self.jobs)} pictures in "
+                 f"{seconds:.1f} s")
+        rep.check("pictures that failed", sorted(done["failed"]), [])
+        types = {job["png"]: job["type"] for job in self.jobs}
+        for row in done["done"]:
+            name = os.path.basename(row["png"])
+            left, right = halves(row["png"])
+            rep.check(f"{name}: share of the before / after sides the part covers (not white)",
+                      [round(left, 3), round(right, 3)], "> 0.005 each",
+                      ok=min(left, right) > 0.005)
+            if types[row["png"]] in ("Stretch", "Bend", "Twist", "Taper"):
+                rep.check(f"{name}: planes drawn, draggers in the scene", [row["planes"],
+                          row["handles"]], ">= 1 plane, >= 2 draggers",
+                          ok=row["planes"] >= 1 and row["handles"] >= 2)
+        self.exports += [os.path.basename(row["png"]) for row in done["done"]]
+
+
+def render(jobs, out):
+    """The pictures of `jobs` rendered by FreeCAD's GUI under xvfb-run
+    (examples/demo_pictures.py) with the workbench installed in a throwaway HOME:
+    ({"done": [{"png", "planes", "handles"}], "failed": {png: traceback}}, seconds)."""
+    import tempfile
+    from freecad_deform.batch.gui_run import install, run_script
+    path = os.path.join(out, "pictures.json")
+    with open(path, "w") as f:
+        json.dump(jobs, f)
+    t = time.perf_counter()
+    with tempfile.TemporaryDirectory() as home:
+        install(home)
+        done = run_script(os.path.join(REPO, "examples", "demo_pictures.py"), home, 600,
+                          DEFORM_PICTURES=path)
+    try:
+        with open(path + ".done.json") as f:
+            report = json.load(f)
+    except FileNotFoundError:
+        report = {"done": [], "failed": {"*": f"no report; FreeCAD exited {done.returncode}:\n"
+                                          f"{done.stdout[-2000:]}{done.stderr[-2000:]}"}}
+    for name in (path, path + ".done.json"):
+        if os.path.exists(name):
+            os.remove(name)
+    return report, time.perf_counter() - t
+
+
+def halves(png):
+    """The share of non-white pixels on the left and the right half of a picture below its
+    title (read with matplotlib, independent of the Qt that wrote it)."""
+    from matplotlib.image import imread
+    rgb = imread(png)[60:, :, :3]
+    ink = (rgb < 0.95).any(axis=2)
+    w = ink.shape[1] // 2
+    return float(ink[:, :w].mean()), float(ink[:, w:].mean())
 
 
 FEATURES = ("Stretch", "Bend", "Twist", "Taper", "DimensionDrive", "AreaConstrain", "DirectPush")
@@ -1301,7 +1233,7 @@ def run(out, quick=False):
                  demo.blade))
     for section in sections + (demo.taper, demo.dimension_drive, demo.area_constrain,
                                demo.direct_push) + (() if quick else (demo.batch,)) + (
-                                   demo.reopen,):
+                                   demo.reopen, demo.pictures):
         demo.guarded(section)
     if demo.doc.Name in App.listDocuments():
         App.closeDocument(demo.doc.Name)

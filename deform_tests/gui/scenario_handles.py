@@ -30,6 +30,22 @@ def draggers(view):
     return found
 
 
+def guide_points(view):
+    """The points of the Guides node (4 per plane sheet, then 2 per axis), from the scene."""
+    from pivy import coin
+    from freecad_deform.gui.coin_nodes import GUIDE_NAME
+    search = coin.SoSearchAction()
+    search.setType(coin.SoCoordinate3.getClassTypeId())
+    search.setInterest(coin.SoSearchAction.ALL)
+    search.apply(view.getSceneGraph())
+    for i in range(search.getPaths().getLength()):
+        path = search.getPaths()[i]
+        if any(str(path.getNode(k).getName()) == GUIDE_NAME for k in range(path.getLength())):
+            points = path.getTail().point
+            return [V(*points[k].getValue()) for k in range(points.getNum())]
+    return []
+
+
 def screen(view, p):
     return V(*view.getPointOnScreen(p), 0)
 
@@ -60,6 +76,14 @@ def handles(h):
     h.check("Twist handles: two plane sliders and an angle disc in the 3D view",
             len(slides) == 2 and len(discs) == 1 and abs(slides[0].x - 40) < 1e-9
             and abs(slides[1].x - 80) < 1e-9, found)
+    corners = guide_points(view)
+    bb = box.Shape.BoundBox
+    h.check("Twist guides: a sheet in each plane (x = 40, 80) across the box, no axis line",
+            len(corners) == 8 and all(abs(p.x - 40) < 1e-9 for p in corners[:4])
+            and all(abs(p.x - 80) < 1e-9 for p in corners[4:])
+            and min(p.y for p in corners) < bb.YMin and max(p.y for p in corners) > bb.YMax
+            and min(p.z for p in corners) < bb.ZMin and max(p.z for p in corners) > bb.ZMax,
+            corners)
     # Plane: drag its slider along the screen image of the normal (+x)
     start = slides[0]
     px0, px1 = screen(view, start), screen(view, start + V(10, 0, 0))

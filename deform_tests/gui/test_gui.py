@@ -1,20 +1,21 @@
 """The Deform workbench in the real FreeCAD GUI, under Xvfb.
 
 FreeCAD runs with a temporary HOME whose user Mod directory (asked from FreeCAD itself)
-links to this repository, so the workbench is found the way a user installs it. The
-scenario (freecad_scenario.py) runs inside the GUI and writes a JSON report; this file
-asserts on it. Screenshots and the saved document go to deform_tests/gui/_out/ (or $DEFORM_GUI_OUT).
+links to this repository, so the workbench is found the way a user installs it
+(freecad_deform.batch.gui_run). The scenario (freecad_scenario.py) runs inside the GUI
+and writes a JSON report; this file asserts on it. Screenshots and the saved document go to deform_tests/gui/_out/ (or $DEFORM_GUI_OUT).
 
 Run: /usr/bin/python3 -m pytest deform_tests/gui -q
 Missing FreeCAD or xvfb-run is a failure, not a skip.
 """
 import json
 import os
-import shutil
 import subprocess
 import time
 
 import pytest
+
+from freecad_deform.batch.gui_run import install, run_script, tool
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -24,60 +25,25 @@ SCENARIO = os.path.join(HERE, "freecad_scenario.py")
 TIMEOUT = 300  # seconds for the whole GUI run; it takes about 40 s
 
 
-def _tool(*names):
-    for name in names:
-        path = shutil.which(name)
-        if path:
-            return path
-    pytest.fail(f"{' or '.join(names)} not found: the GUI tests need it installed")
-
-
-def _env(home):
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("XDG_", "FREECAD_"))}
-    env.update(HOME=str(home), QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox",
-               LANG="C.UTF-8", LC_ALL="C.UTF-8")
-    env.pop("PYTHONPATH", None)
-    env.pop("DISPLAY", None)
-    return env
-
-
-def _user_mod_dir(home):
-    """The user Mod directory FreeCAD scans for this HOME (asked from FreeCAD itself)."""
-    cmd = _tool("freecadcmd", "FreeCADCmd")
-    probe = home / "probe_user_dir.py"
-    answer = home / "user_dir.txt"
-    probe.write_text("import FreeCAD\n"
-                     f"open({str(answer)!r}, 'w').write(FreeCAD.getUserAppDataDir())\n")
-    subprocess.run([cmd, str(probe)], env=_env(home), capture_output=True, timeout=60)
-    if not answer.exists():
-        pytest.fail("freecadcmd did not report its user data directory")
-    return os.path.join(answer.read_text().strip(), "Mod")
-
-
 @pytest.fixture(scope="module")
 def gui_run(tmp_path_factory):
-    freecad = _tool("freecad", "FreeCAD")
-    xvfb = _tool("xvfb-run")
     assert os.path.isfile(os.path.join(TESTDATA, "face_recognition_sample_part.stp")), TESTDATA
-
     home = tmp_path_factory.mktemp("home")
-    mod_dir = _user_mod_dir(home)
+    try:
+        tool("freecad", "FreeCAD"), tool("xvfb-run")
+        mod_dir = install(home)
+    except (FileNotFoundError, RuntimeError) as e:
+        pytest.fail(f"the GUI tests need FreeCAD's GUI and xvfb-run: {e}")
     assert mod_dir.startswith(str(home)), mod_dir
-    os.makedirs(mod_dir, exist_ok=True)
-    os.symlink(REPO, os.path.join(mod_dir, "Deform"))
 
     os.makedirs(OUT, exist_ok=True)
     result_path = os.path.join(OUT, "gui_result.json")
     if os.path.exists(result_path):
         os.remove(result_path)
-    env = _env(home)
-    env.update(DEFORM_GUI_RESULT=result_path, DEFORM_GUI_OUT=OUT, DEFORM_TESTDATA=TESTDATA,
-               DEFORM_REPO=REPO)
-    cmd = [xvfb, "-a", "-s", "-screen 0 1280x1024x24", freecad, SCENARIO]
     start = time.time()
     try:
-        proc = subprocess.run(cmd, env=env, cwd=str(home), capture_output=True,
-                              encoding="utf-8", errors="replace", timeout=TIMEOUT)
+        proc = run_script(SCENARIO, home, TIMEOUT, DEFORM_GUI_RESULT=result_path,
+                          DEFORM_GUI_OUT=OUT, DEFORM_TESTDATA=TESTDATA)
     except subprocess.TimeoutExpired as e:
         pytest.fail(f"FreeCAD GUI did not finish in {TIMEOUT} s\n{e.stdout}\n{e.stderr}")
     elapsed = time.time() - start
@@ -143,6 +109,7 @@ def test_all_checks_pass(gui_run):
     "Taper: one valid solid after OK", "Taper: one undo step", "Taper: undo removes it",
     "Taper: Cancel leaves the document unchanged",
     "Twist handles: two plane sliders and an angle disc in the 3D view",
+    "Twist guides: a sheet in each plane (x = 40, 80) across the box, no axis line",
     "Twist handle: Plane lands where its handle was let go (1 px)",
     "Twist handle: the disc turns Angle by the angle swept in its plane (5 deg)",
     "Twist handles gone after Cancel",

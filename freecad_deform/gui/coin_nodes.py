@@ -1,7 +1,8 @@
 """The Coin nodes the task panels put into the 3D view while they are open: markers and
 segments (Marks), a dragged element's live shape (Preview, DirectPush), a surface's control
-net with pickable poles (ControlNet, AreaConstrain), and draggers (Handle: the planes, Distance,
-Angle and Scale of Stretch, Bend, Twist and Taper). Each is added to the view's scene graph
+net with pickable poles (ControlNet, AreaConstrain), draggers (Handle: the planes, Distance,
+Angle and Scale of Stretch, Bend, Twist and Taper) and the separating planes and the axis
+they act on (Guides). Each is added to the view's scene graph
 by its constructor or its owner and removed with remove(); names let tests find them.
 pivy is imported inside each class: it is there only with the GUI up.
 """
@@ -12,6 +13,8 @@ NET_NAME = "DeformControlNet"       # ControlNet's root
 GRAB_COLOUR = MOVABLE_COLOUR = (1.0, 0.45, 0.0)
 CONSTRAINT_COLOUR = (0.0, 0.35, 0.85)
 NET_COLOUR = (0.15, 0.15, 0.15)
+GUIDE_COLOUR = (0.85, 0.15, 0.1)    # the separating planes and the axis
+GUIDE_NAME = "DeformGuides"         # Guides' root
 FIXED_COLOUR = (0.3, 0.3, 0.3)
 PICK_RADIUS = 10                    # pixels: a click this near a pole picks it
 
@@ -237,3 +240,51 @@ class Handle:
             return self.dragger.translation.getValue()[0] * self.size
         x, y, z, w = self.dragger.rotation.getValue().getValue()
         return math.degrees(2.0 * math.atan2(z, w))
+
+
+class Guides:
+    """The separating planes as translucent sheets with an outline, and the axis as a line,
+    never picked (the part and the handles behind them stay clickable)."""
+
+    def __init__(self):
+        from pivy import coin
+        self.root = coin.SoSeparator()
+        self.root.setName(GUIDE_NAME)
+        pick = coin.SoPickStyle()
+        pick.style = coin.SoPickStyle.UNPICKABLE
+        hints = coin.SoShapeHints()
+        hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE   # lit from both sides
+        material = coin.SoMaterial()
+        material.diffuseColor = GUIDE_COLOUR
+        material.emissiveColor = tuple(0.4 * c for c in GUIDE_COLOUR)
+        material.transparency = 0.7
+        style = coin.SoDrawStyle()
+        style.lineWidth = 2
+        self.coords = coin.SoCoordinate3()
+        self.sheets = coin.SoFaceSet()
+        lines = coin.SoSeparator()
+        colour = coin.SoBaseColor()
+        colour.rgb = GUIDE_COLOUR
+        self.lines = coin.SoIndexedLineSet()
+        for node in (colour, self.lines):
+            lines.addChild(node)
+        for node in (pick, hints, style, self.coords, material, self.sheets, lines):
+            self.root.addChild(node)
+        self.set([], [])
+
+    def set(self, sheets, axes):
+        """sheets: rectangles as 4 corners each; axes: segments as 2 end points each."""
+        points = [tuple(float(c) for c in p) for corners in (*sheets, *axes) for p in corners]
+        self.coords.point.setNum(len(points))
+        if points:
+            self.coords.point.setValues(0, len(points), points)
+        self.sheets.numVertices.setNum(len(sheets))
+        if sheets:
+            self.sheets.numVertices.setValues(0, len(sheets), [4] * len(sheets))
+        index = [i for k in range(len(sheets)) for i in (4 * k, 4 * k + 1, 4 * k + 2, 4 * k + 3,
+                                                         4 * k, -1)]
+        start = 4 * len(sheets)
+        index += [i for k in range(len(axes)) for i in (start + 2 * k, start + 2 * k + 1, -1)]
+        self.lines.coordIndex.setNum(len(index))
+        if index:
+            self.lines.coordIndex.setValues(0, len(index), index)

@@ -1,14 +1,16 @@
 """Handles in the 3D view for the Stretch, Bend, Twist and Taper panels: a trim plane is
 dragged along its normal, and Distance, Angle or Scale follow a handle of their own (Coin's
 translate and disc draggers). They sit just outside the part's bounding box, so the mouse
-finds them in front of the part; every drag sets the property and the preview follows."""
+finds them in front of the part; every drag sets the property and the preview follows.
+The planes in use are drawn as translucent sheets reaching the handles, the axis as a line
+(Guides)."""
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore
 
 from ..geometry.sweep.defaults import across
 from ..shapes.convert import vector
-from .coin_nodes import Handle
+from .coin_nodes import Guides, Handle
 from .selection import bound_box
 from .widgets import direction_of
 
@@ -35,6 +37,8 @@ class PanelHandles:
                 App.Console.PrintWarning(f"{panel.TYPE}: no handles in the 3D view ({e})\n")
         if self.scene is None:
             return
+        self.guides = Guides()
+        self.scene.addChild(self.guides.root)
         for name in names:
             self.handles[name] = Handle("turn" if name == "Angle" else "slide")
             self.scene.addChild(self.handles[name].root)
@@ -60,13 +64,17 @@ class PanelHandles:
                 return
 
     # --- where each handle sits -------------------------------------------------------------
+    def frame(self):
+        """(box centre, reach, normal, side): where the handles and guides are laid out."""
+        box = bound_box(self.obj.Base)
+        normal = direction_of(self.obj.Plane)
+        return App.Vector(box.Center), OUT * box.DiagonalLength, normal, \
+            vector(across(tuple(normal)))
+
     def geometry(self, name):
         """(point, direction) of a handle, from the object's properties now."""
         obj = self.obj
-        box = bound_box(obj.Base)
-        centre, reach = App.Vector(box.Center), OUT * box.DiagonalLength
-        normal = direction_of(obj.Plane)
-        side = vector(across(tuple(normal)))   # where the handles sit beside the part
+        centre, reach, normal, side = self.frame()   # side: where the handles sit beside the part
 
         def in_plane(placement):
             return centre + normal * (placement.Base - centre).dot(normal)
@@ -84,6 +92,30 @@ class PanelHandles:
             return obj.Axis.Base, direction_of(obj.Axis)
         return in_plane(obj.Plane2) - side * reach, normal
 
+    def guide_geometry(self):
+        """(sheets, axes) of the Guides: each separating plane in use as a rectangle from
+        handle to handle across the part, the Axis in use as a segment across it."""
+        obj = self.obj
+        centre, reach, normal, side = self.frame()
+        up = normal.cross(side)
+        box = bound_box(obj.Base)
+        half = 0.55 * sum(abs(c) * length for c, length in
+                          zip(up, (box.XLength, box.YLength, box.ZLength)))
+        planes = [] if len(getattr(obj, "Polyline", ())) else [obj.Plane]
+        if hasattr(obj, "Plane2") and getattr(obj, "UsePlane2", True):
+            planes.append(obj.Plane2)
+        sheets = []
+        for placement in planes:
+            middle = centre + normal * (placement.Base - centre).dot(normal)
+            sheets.append([middle + side * a * reach + up * b * half
+                           for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+        axes = []
+        if self.panel.TYPE == "Bend" or getattr(obj, "UseAxis", False):
+            direction = direction_of(obj.Axis)
+            foot = obj.Axis.Base + direction * (centre - obj.Axis.Base).dot(direction)
+            axes.append([foot - direction * reach, foot + direction * reach])
+        return sheets, axes
+
     def place(self):
         """Every handle where the object's properties put it, its drag reset."""
         if self.scene is None:
@@ -92,6 +124,7 @@ class PanelHandles:
         for name, handle in self.handles.items():
             point, direction = self.geometry(name)
             handle.place(point, direction, size * (DISC if handle.kind == "turn" else 1.0))
+        self.guides.set(*self.guide_geometry())
         self.start = {n: self._value(n) for n in self.handles}
 
     def _value(self, name):
@@ -134,4 +167,5 @@ class PanelHandles:
             self.timer.stop()
             for handle in self.handles.values():
                 self.scene.removeChild(handle.root)
+            self.scene.removeChild(self.guides.root)
         self.handles = {}
