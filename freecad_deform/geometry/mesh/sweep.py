@@ -252,16 +252,17 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     counts = np.concatenate([n_ab, n_bc, n_ac])
     crossing = np.flatnonzero(counts)
     lo_x, hi_x = lo.take(crossing), hi.take(crossing)
-    _, first, inv = np.unique(np.minimum(lo_x, hi_x) * N + np.maximum(lo_x, hi_x),
-                              return_index=True, return_inverse=True)
+    keys, inv = np.unique(np.minimum(lo_x, hi_x) * N + np.maximum(lo_x, hi_x),
+                          return_inverse=True)
     m = len(a)
     e_of = np.full(3 * m, -1)
     e_of[crossing] = inv.reshape(-1)
     e_ab, e_bc, e_ac = np.split(e_of, 3)
-    e_first = np.concatenate([f_ab, f_bc, f_ac]).take(crossing.take(first))
-    e_count = counts.take(crossing.take(first))
+    p, q = keys // N, keys % N                # each edge from its lower level to its higher
+    up, uq = u.take(p), u.take(q)
+    p, q = np.where(up < uq, p, q), np.where(up < uq, q, p)
+    e_first, e_count = _planes_between(np.minimum(up, uq), np.maximum(up, uq), samples)
     e_start = np.cumsum(e_count) - e_count
-    p, q = lo_x.take(first), hi_x.take(first)
     edge, k = _ranges(e_count)
     jp = e_first.take(edge) + k
     level = gap * jp / samples
@@ -370,16 +371,13 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
 
 def _sorted_corners(Tr, u0, u1, u2):
     """Each triangle's corners (a, b, c) sorted by level, ties kept in corner order, and
-    whether that order reverses the triangle's orientation: compare-and-swap on columns."""
-    ids = [np.ascontiguousarray(col) for col in Tr.T]
-    lv = [u0, u1, u2]
-    pos = [np.full(len(Tr), k, np.int8) for k in range(3)]
-    for x, y in ((0, 1), (1, 2), (0, 1)):            # a stable bubble sort of three
-        swap = lv[y] < lv[x]
-        for arr in (ids, lv, pos):
-            arr[x], arr[y] = np.where(swap, arr[y], arr[x]), np.where(swap, arr[x], arr[y])
-    odd = (pos[1] - pos[0]) % 3 != 1
-    return ids[0], ids[1], ids[2], odd
+    whether that order reverses the triangle's orientation (an odd permutation): from
+    each corner's rank, a few comparisons on columns."""
+    r0 = (u1 < u0).view(np.int8) + (u2 < u0)
+    r1 = (u0 <= u1).view(np.int8) + (u2 < u1)
+    i0, i1, i2 = (np.ascontiguousarray(col) for col in Tr.T)
+    corner = [np.where(r0 == k, i0, np.where(r1 == k, i1, i2)) for k in range(3)]
+    return corner[0], corner[1], corner[2], (r1 - r0) % 3 != 1
 
 
 def _length(W, i, j):
@@ -387,7 +385,7 @@ def _length(W, i, j):
     d = W.take(i, axis=0)
     d -= W.take(j, axis=0)
     d *= d
-    return np.sqrt(d.sum(axis=1))
+    return np.sqrt(d[:, 0] + d[:, 1] + d[:, 2])     # (sum(axis=1) is slower on short rows)
 
 
 def _merge_segments(P, segments, eps):
@@ -397,7 +395,10 @@ def _merge_segments(P, segments, eps):
     apart they would make a needle facet (and in float32 one point). Merged, the two facets
     on that tiny edge vanish (an edge collapse on the plane) and the mesh stays a closed
     2-manifold."""
-    short = segments[np.linalg.norm(P[segments[:, 0]] - P[segments[:, 1]], axis=1) <= eps]
+    d = P.take(segments[:, 0], axis=0)
+    d -= P.take(segments[:, 1], axis=0)
+    d *= d
+    short = segments[np.sqrt(d[:, 0] + d[:, 1] + d[:, 2]) <= eps]
     if not len(short):
         return P, np.arange(len(P))
     from scipy.sparse import coo_matrix
