@@ -64,7 +64,7 @@ def delaunay_flips(V, tris, lab, flat=1e-9):
     convex quadrilateral and their opposite angles add up to more than pi.
     """
     T = [list(t) for t in np.asarray(tris).tolist()]
-    P = np.asarray(V, float)
+    P = np.asarray(V, float).tolist()
     lab = np.asarray(lab).tolist()
     edges = {}
     for f, t in enumerate(T):
@@ -281,15 +281,27 @@ def _quadrics(V, T, a, b, face, on_line):
 
 
 def _should_flip(a, b, c, d, flat):
-    """Whether edge ab of triangles abc and bad should become cd (see delaunay_flips)."""
-    n1, n2 = np.cross(b - a, c - a), np.cross(a - b, d - b)
-    l1, l2 = np.linalg.norm(n1), np.linalg.norm(n2)
-    if l1 == 0 or l2 == 0 or np.linalg.norm(np.cross(n1, n2)) > flat * l1 * l2 or n1 @ n2 < 0:
+    """Whether edge ab of triangles abc and bad should become cd (see delaunay_flips).
+    Points are 3-tuples of floats: this runs once per edge, where numpy's per-call cost
+    on 3-vectors would dominate."""
+    def sub(p, q):
+        return p[0] - q[0], p[1] - q[1], p[2] - q[2]
+
+    def norm(p):
+        return math.sqrt(_dot(p, p))
+
+    n1, n2 = _normal(a, b, c), _normal(b, a, d)
+    l1, l2 = norm(n1), norm(n2)
+    if l1 == 0 or l2 == 0 or norm(_cross(n1, n2)) > flat * l1 * l2 or _dot(n1, n2) < 0:
         return False
-    if np.cross(d - a, c - a) @ n1 <= 0 or np.cross(c - b, d - b) @ n1 <= 0:
+    if _dot(_cross(sub(d, a), sub(c, a)), n1) <= 0 or _dot(_cross(sub(c, b), sub(d, b)), n1) <= 0:
         return False                                   # not convex: the flip would fold
 
     def angle(p, q, r):                                # at q
-        u, v = p - q, r - q
-        return math.atan2(np.linalg.norm(np.cross(u, v)), u @ v)
+        u, v = sub(p, q), sub(r, q)
+        return math.atan2(norm(_cross(u, v)), _dot(u, v))
     return angle(a, c, b) + angle(a, d, b) > math.pi + 1e-12
+
+
+def _cross(p, q):
+    return p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]
