@@ -156,8 +156,9 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
         raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
                           "infinity); repair or replace the Base mesh.", "Base")
     s = signed(V, o, n)
-    check_crossing(s, "Plane", eps, touching=True)
-    check_crossing(s - gap, "Plane2", eps, touching=True)
+    ends = np.array([s.min(), s.max()])       # all the plane tests need, without a copy of s
+    check_crossing(ends, "Plane", eps, touching=True)
+    check_crossing(ends - gap, "Plane2", eps, touching=True)
     W, T, f = slab_cut(V, T, o, n, gap, samples, eps, s)
     return move_by_fraction(W, f, motion_of_s, in_place=True), T
 
@@ -219,9 +220,6 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     u = s / h
     u[snap] = j_snap
     np.clip(u, -1.0, samples + 1.0, out=u)
-    fractions = s / gap
-    np.clip(fractions, 0.0, 1.0, out=fractions)
-    fractions[snap] = j_snap / samples
     # which triangles cross a plane: only those whose corners are not all in one cell
     # between planes can, and only those are sorted (most triangles of a fine mesh cross
     # none); then from their lowest and highest level alone
@@ -233,11 +231,16 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
                                  np.maximum(np.maximum(u0, u1), u2), samples)
     hit = np.flatnonzero(n_ac)
     rows = maybe.take(hit)
-    W = np.empty((N + int(n_ac.sum()) * 2 + 1, 3))   # at most two cut edges per plane crossed
+    size = N + int(n_ac.sum()) * 2 + 1       # at most two cut edges per plane crossed
+    W = np.empty((size, 3))
     W[:N] = V
     W[snap] -= d_snap[:, None] * n
+    fractions = np.empty(size)
+    np.divide(s, gap, out=fractions[:N])
+    np.clip(fractions[:N], 0.0, 1.0, out=fractions[:N])
+    fractions[snap] = j_snap / samples
     if not len(rows):
-        return W[:N], T.copy(), fractions
+        return W[:N], T.copy(), fractions[:N]
     a, b, c, odd = _sorted_corners(Tm.take(hit, axis=0), u0.take(hit), u1.take(hit),
                                    u2.take(hit))
     ua, ub, uc = u.take(a), u.take(b), u.take(c)
@@ -291,9 +294,8 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     K = len(P)
     W = W[:N + K]
     W[N:] = P
-    on_plane = np.empty(K)
-    on_plane[label] = jp / samples
-    fractions = np.concatenate([fractions, on_plane])
+    fractions = fractions[:N + K]
+    fractions[N + label] = jp / samples
 
     def point(e, jj):
         return N + label.take(raw(e, jj))

@@ -80,6 +80,8 @@ def map_points_between(points, origin, normal, gap, motion_of_s):
         raise DeformError("Plane2 must lie beyond Plane along its normal (on the moving side); "
                           "move Plane2.", "Plane2")
     s = signed_distance(pts, origin, n)
-    check_crossing(s, "Plane", touching=True, where=EVERY_POINT)
-    check_crossing(s - gap, "Plane2", touching=True, where=EVERY_POINT)
-    return move_by_fraction(pts, np.clip(s / gap, 0.0, 1.0), motion_of_s)
+    ends = np.array([s.min(), s.max()])       # all the plane tests need, without a copy of s
+    check_crossing(ends, "Plane", touching=True, where=EVERY_POINT)
+    check_crossing(ends - gap, "Plane2", touching=True, where=EVERY_POINT)
+    s /= gap
+    return move_by_fraction(pts, np.clip(s, 0.0, 1.0, out=s), motion_of_s)
