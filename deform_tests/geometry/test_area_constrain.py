@@ -250,3 +250,22 @@ def test_the_large_solver_reaches_the_target_with_the_least_change(monkeypatch, 
         d, g = (np.sum(x * n, axis=1) for x in (d, g))
     cos = abs(d.ravel() @ g.ravel()) / np.linalg.norm(d) / np.linalg.norm(g)
     assert cos > 1 - 1e-12
+
+
+def test_a_large_face_s_fixed_cells_error_does_not_refuse_a_local_change(monkeypatch):
+    """On a face of more than LARGE cells the cells no listed pole touches are summed once
+    by a fixed pair of rules; their error (here made 1e-6 of the area by coarse rules)
+    stays the same before and after, so it is no sign of a fold: the solve is not refused,
+    the change of area (the test's own quadrature, before and after) is the one asked,
+    and AreaError still reports the fixed cells' error."""
+    from freecad_deform.geometry.nurbs import bspline_area
+    monkeypatch.setattr(bspline_area, "LARGE", 50)
+    monkeypatch.setattr(bspline_area, "FIXED_RULES", (2, 3))
+    s = canopy(14, size=(100.0, 100.0))
+    movable = [idx(s, i, j) for i in (7, 8) for j in (7, 8)]
+    q = ac.area_quadrature(s, movable)
+    assert q.error > 1e-7 * q.area(s.poles)
+    change = 0.01 * own_area(s)
+    sol = ac.constrain_surface_area(s, movable, q.area(s.poles) + change, "Normal", q=q)
+    assert own_area(s, sol.poles) - own_area(s) == pytest.approx(change, rel=1e-10)
+    assert sol.error >= q.error - q.active_error

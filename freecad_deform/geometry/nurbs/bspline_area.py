@@ -13,6 +13,7 @@ its error estimate (the finer rule converges faster); the sum is the reported er
 The surface is linear in its poles: at each point S_u = sum Ru_m P_m over the (p+1)(q+1)
 poles of its cell, so gradient and Hessian are sums of small dense blocks per cell.
 """
+import hashlib
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -145,16 +146,20 @@ def gauss(n):
     return x, w
 
 
-def _interval_basis(knots, degree, a, b, span, x):
+def _interval_basis(knots, degree, a, b, span, whole, x):
     """Basis values and derivatives (R, n, degree + 1) at the nodes x mapped onto each
     interval [a, b] of knot span `span`, evaluated once per distinct interval (the cells of
-    a large face share a few hundred)."""
-    key = np.stack([a, b, span.astype(float)], 1)
-    unique, back = np.unique(key, axis=0, return_inverse=True)
-    half = (unique[:, 1] - unique[:, 0]) / 2
-    u = (unique[:, 0] + half)[:, None] + half[:, None] * x
-    N, dN = basis(knots, degree, np.repeat(unique[:, 2].astype(int), len(x)), u.ravel())
-    shape = (len(unique), len(x), degree + 1)
+    a large face share a few hundred); `whole`: every interval is its whole knot span."""
+    if whole:
+        _, first, back = np.unique(span, return_index=True, return_inverse=True)
+    else:
+        _, first, back = np.unique(np.stack([a, b, span.astype(float)], 1), axis=0,
+                                   return_index=True, return_inverse=True)
+    a, b, span = a[first], b[first], span[first]
+    half = (b - a) / 2
+    u = (a + half)[:, None] + half[:, None] * x
+    N, dN = basis(knots, degree, np.repeat(span, len(x)), u.ravel())
+    shape = (len(first), len(x), degree + 1)
     back = np.asarray(back).ravel()
     return N.reshape(shape)[back], dN.reshape(shape)[back]
 
@@ -165,8 +170,9 @@ def _rule(rects, surface, n):
     s = surface
     x, w = gauss(n)
     hu, hv = (rects.u1 - rects.u0) / 2, (rects.v1 - rects.v0) / 2
-    Nu, dNu = _interval_basis(s.uknots, s.udegree, rects.u0, rects.u1, rects.su, x)
-    Nv, dNv = _interval_basis(s.vknots, s.vdegree, rects.v0, rects.v1, rects.sv, x)
+    whole = not rects.depth.any()       # depth 0: a whole knot-span cell
+    Nu, dNu = _interval_basis(s.uknots, s.udegree, rects.u0, rects.u1, rects.su, whole, x)
+    Nv, dNv = _interval_basis(s.vknots, s.vdegree, rects.v0, rects.v1, rects.sv, whole, x)
     weights = (hu[:, None] * w)[:, :, None] * (hv[:, None] * w)[:, None, :]
     return weights, Nu, dNu, Nv, dNv
 
@@ -369,6 +375,7 @@ class Quadrature:
         self.surface = surface
         self.fixed_parts = fixed
         self.fixed, self.error = fixed[0], fixed[1] + active_error
+        self.active_error = active_error    # the error of the part the poles change
         self.per_area, self.active = per_area, active
         self.rects = rects.take(np.lexsort((rects.sv, rects.su)))
         n = RULES[self.rects.order]
@@ -508,8 +515,7 @@ def quadrature(surface, movable=None, rtol=RTOL):
     fixed = None
     if movable is not None and len(start.u0) > LARGE:
         active = touched(start, s, movable)
-        rest = start.take(~active)
-        coarse, fine = (rect_areas(rest, s, s.poles, n) for n in FIXED_RULES)
+        coarse, fine = (x[~active] for x in _cell_rules(s, start))
         fixed = (float(np.sum(fine)), float(np.sum(np.abs(fine - coarse))))
         start = start.take(active)
     estimate = rect_areas(start, s, s.poles, RULES[0])
@@ -517,6 +523,25 @@ def quadrature(surface, movable=None, rtol=RTOL):
     per_area = rtol * total / size
     rects, values, errors = adapt(start, s, s.poles, _tolerance(per_area, rtol))
     return _build(s, rects, values, errors, per_area, movable, fixed)
+
+
+_CELL_RULES = {}        # the last few faces' cell areas by FIXED_RULES, by their arrays
+
+
+def _cell_rules(surface, every):
+    """The area of every cell (`every`: cells(surface)) by the two FIXED_RULES, kept for
+    the last few surfaces: a large face's cells that no listed pole touches are summed
+    from them, so a recompute with other Poles or another target (the task panel's
+    preview) does not integrate 100,000 cells again."""
+    s = surface
+    key = hashlib.sha1(b"".join(np.ascontiguousarray(x, float).tobytes() for x in
+                                (s.poles, s.weights, s.uknots, s.vknots)) +
+                       bytes([s.udegree, s.vdegree, *FIXED_RULES])).hexdigest()
+    if key not in _CELL_RULES:
+        if len(_CELL_RULES) >= 2:
+            _CELL_RULES.pop(next(iter(_CELL_RULES)))
+        _CELL_RULES[key] = tuple(rect_areas(every, s, s.poles, n) for n in FIXED_RULES)
+    return _CELL_RULES[key]
 
 
 def _tolerance(per_area, rtol):
@@ -538,17 +563,23 @@ def _build(surface, rects, values, errors, per_area, movable, fixed=None):
 
 
 def refined(q, poles, rtol=RTOL):
-    """(Quadrature for the surface with `poles`, whether it needed more nodes than q): q's
-    rectangles checked with the new poles (only movable ones changed), given more nodes or
-    split further where the rules disagree; the error estimate is the new one. Each
-    rectangle is checked afresh (its kept value belongs to the old poles), from its rule."""
+    """(Quadrature for the surface with `poles`, whether it needed more nodes than q and
+    its area there differs from q's by more than rtol): q's rectangles checked with the
+    new poles (only movable ones changed), given more nodes or split further where the
+    rules disagree; the error estimate is the new one. Each rectangle is checked afresh
+    (its kept value belongs to the old poles), from its rule. (More nodes alone happen
+    at the rounding floor: a terrain's cells, 700 m^2 to 1e-13, flipped one by one and
+    the solve restarted 30 times.)"""
     s = q.surface._replace(poles=np.asarray(poles, float).reshape(q.surface.poles.shape))
     n = len(q.rects.u0)
     start = q.rects._replace(value=np.full(n, np.nan), last=np.full(n, np.inf))
     rects, values, errors = adapt(start, s, s.poles, _tolerance(q.per_area, rtol))
     new = _build(s, rects, values, errors, q.per_area, None, q.fixed_parts)
     new.active = q.active
-    return new, new.count != q.count
+    if new.count == q.count:
+        return new, False
+    area = new.area(s.poles)
+    return new, abs(area - q.area(s.poles)) > rtol * abs(area)
 
 
 # --- large non-rational surfaces (a terrain): one tensor rule, the basis as sparse matrices
@@ -691,6 +722,7 @@ class GridQuadrature:
                                    None)
             self.error += self.part.error
             self.count += self.part.count
+        self.active_error = self.error
 
     def area(self, poles):
         return self.grid.area(poles) + (self.part.area(poles) if self.part else 0.0)
