@@ -96,7 +96,7 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
             return result
         middle = brep.revolved(cut, axis_point, axis_direction, angle)
         moved = brep.transformed(far, far_motion)
-        brep.check_apart(near, moved, "Angle")
+        brep.check_apart(near, moved, "Angle", (origin, normal))
         return brep.join(near + middle + moved, [(origin, normal), far_joint])
 
     def loose_fn(parts):

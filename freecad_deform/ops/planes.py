@@ -97,7 +97,7 @@ def lofted_join(near, cut, profiles, far, far_plane, end, joints, prop):
     `cut` faces to the far part's section at `far_plane`, moved by `end`) and the far
     pieces: their faces sewn, the cut faces left out."""
     moved = brep.transformed(far, end)
-    brep.check_apart(near, moved, prop)
+    brep.check_apart(near, moved, prop, joints[0])  # the near pieces lie behind Plane
     far_cut = brep.faces_on_plane(far, *far_plane)
     faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)]
              + brep.loft_sides(profiles, prop)

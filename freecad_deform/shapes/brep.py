@@ -31,26 +31,34 @@ def oriented(solid):
     volumes = shell_volumes(solid)
     outer = int(np.argmax(np.abs(volumes)))
     if all((v > 0) == (k == outer) for k, v in enumerate(volumes)):
-        return solid.copy()
+        copy = solid.copy()
+        _remember(copy, volumes)  # the same shells: their volumes are known
+        return copy
     if len(volumes) == 1:
         return solid.reversed().copy()
     return solid_of_shells([sh.copy() for sh in solid.Shells]) or solid.copy()
 
 
-_VOLUMES = []  # (shape, signed shell volumes) of recent Base solids, newest last
+_VOLUMES = []  # (shape, signed shell volumes) of recent solids, most recently used last
 
 
 def shell_volumes(solid):
     """Signed volume of each shell of `solid` (negative: it faces inward), remembered for
     the last few solids: a Base is read at every recompute, and OCCT's volume of B-spline
     faces costs up to a second."""
-    for shape, volumes in _VOLUMES:
-        if shape.isEqual(solid):  # same orientation too
-            return volumes
+    for entry in _VOLUMES:
+        if entry[0].isEqual(solid):  # same orientation too
+            _VOLUMES.remove(entry)  # the most recently used last
+            _VOLUMES.append(entry)
+            return entry[1]
     volumes = [sh.Volume for sh in solid.Shells]
+    _remember(solid, volumes)
+    return volumes
+
+
+def _remember(solid, volumes):
     _VOLUMES.append((solid, volumes))  # holding the shape keeps its identity unique
     del _VOLUMES[:-16]
-    return volumes
 
 
 def solid_of_shells(shells):
@@ -336,11 +344,13 @@ def join(solids, joints, prop="Plane"):
     """
     on_surface = joints if callable(joints) else on_planes(joints)
     if len(solids) > 1:
-        sewn = _sewn(_unshared_faces(solids, on_surface))
-        if sewn is not None:
-            solid, _ = _merged(sewn, on_surface)
-            if solid is not None:
-                return solid
+        faces = _unshared_faces(solids, on_surface)
+        for sew in (lambda: _sewn_pieces(solids, faces), lambda: _sewn(faces)):
+            sewn = sew()
+            if sewn is not None:
+                solid, _ = _merged(sewn, on_surface)
+                if solid is not None:
+                    return solid
     fused = solids[0] if len(solids) == 1 else solids[0].fuse(solids[1:])
     solid, failure = _merged(fused, on_surface)
     if solid is None:
@@ -351,25 +361,53 @@ def join(solids, joints, prop="Plane"):
 
 def _unshared_faces(solids, on_surface):
     """The faces of the pieces but those on a joint that another piece also has there
-    (same centre of mass and area, to 1e-9 of the pieces' size)."""
+    (same centre of mass and area, to 1e-9 of the pieces' size). With joint planes only
+    the faces whose box reaches a plane (to 1e-3 of the size) are tested."""
     size = max(s.BoundBox.DiagonalLength for s in solids)
+    planes = getattr(on_surface, "planes", None)
 
     def key(face):
         c = face.CenterOfMass
         return np.array([c.x / size, c.y / size, c.z / size, face.Area / size ** 2])
 
-    keys = [[key(f) if on_surface(np.array([tuple(v.Point) for v in f.Vertexes])) else None
-             for f in s.Faces] for s in solids]
+    def candidates(faces):
+        if planes is None:
+            return range(len(faces))
+        boxes, near = _boxes(faces), np.zeros(len(faces), bool)
+        for o, n in planes:
+            lo, hi = _box_extents(boxes, o, n)
+            near |= (lo < 1e-3 * size) & (hi > -1e-3 * size)
+        return np.flatnonzero(near)
+
+    pieces = [s.Faces for s in solids]
+    keys = [{i: key(fs[i]) for i in candidates(fs)
+             if on_surface(np.array([tuple(v.Point) for v in fs[i].Vertexes]))} for fs in pieces]
     faces = []
-    for i, s in enumerate(solids):
-        others = [k for j, ks in enumerate(keys) if j != i for k in ks if k is not None]
-        faces += [f for f, k in zip(s.Faces, keys[i])
-                  if k is None or not any(np.allclose(k, o, rtol=0, atol=1e-9) for o in others)]
+    for i, fs in enumerate(pieces):
+        others = [k for j, ks in enumerate(keys) if j != i for k in ks.values()]
+        faces += [f for m, f in enumerate(fs) if m not in keys[i] or not any(
+            np.allclose(keys[i][m], o, rtol=0, atol=1e-9) for o in others)]
     return faces
 
 
+def _sewn_pieces(solids, faces):
+    """The solid the pieces close when sewn with only `faces` of theirs, or None. Each piece
+    goes to the sewing as its shells, the faces left out removed: sewing then has only the
+    open edges at the joints to match (a third of the time of sewing loose faces on a
+    1000-face plate)."""
+    keep = {f.hashCode() for f in faces}
+    shells = []
+    for solid in solids:
+        drop = [f for f in solid.Faces if f.hashCode() not in keep]
+        try:
+            shells += (solid.removeShape(drop) if drop else solid).Shells
+        except Part.OCCError:
+            return None
+    return _sewn(shells)
+
+
 def _sewn(faces):
-    """The solid the faces close when sewn, or None when they do not close one."""
+    """The solid the faces (or shells) close when sewn, or None when they do not close one."""
     sewn = Part.makeCompound(faces)
     try:
         sewn.sewShape()
@@ -577,10 +615,19 @@ def sample_points(face, per_edge=9):
     return np.array([tuple(p) for e in face.Edges for p in e.discretize(per_edge)])
 
 
-def check_apart(near, moved, prop):
-    """The moved part must not overlap the part that stays (an OCCT boolean check)."""
-    for a in near:
-        for b in moved:
+def check_apart(near, moved, prop, plane=None):
+    """The moved part must not overlap the part that stays (an OCCT boolean check).
+
+    `plane` (origin, normal): the near pieces lie behind it (they come from the split
+    there), so a moved piece whose box lies beyond it cannot overlap them; nor can two
+    pieces whose boxes are apart. Only the others go through the boolean.
+    """
+    for b in moved:
+        if plane is not None and extent(b, *plane)[0] >= -TOL:
+            continue
+        for a in near:
+            if not a.BoundBox.intersect(b.BoundBox):
+                continue
             overlap = a.common(b).Volume
             if overlap > 1e-9 * max(a.Volume, b.Volume):
                 raise DeformError(f"The moved or swept part overlaps the part that stays "
@@ -646,8 +693,16 @@ def _near_wires(face, origin, normal, many_wires=8):
 def extents(shapes, origin, normal):
     """(min, max) arrays: signed distances of each shape's bounding box to the plane, as
     extent() for one shape."""
-    boxes = np.array([(b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
-                      for b in (s.BoundBox for s in shapes)]).reshape(-1, 6)
+    return _box_extents(_boxes(shapes), origin, normal)
+
+
+def _boxes(shapes):
+    """(N, 6) array of the shapes' bounding boxes: min corner, max corner."""
+    return np.array([(b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
+                     for b in (s.BoundBox for s in shapes)]).reshape(-1, 6)
+
+
+def _box_extents(boxes, origin, normal):
     low, high = boxes[:, :3] * normal, boxes[:, 3:] * normal
     at = float(np.dot(origin, normal))
     return np.minimum(low, high).sum(axis=1) - at, np.maximum(low, high).sum(axis=1) - at
