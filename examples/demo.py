@@ -28,7 +28,8 @@ reopen (no batch section); report.md opens with the features table (feature, bas
 seconds, the oracle and its relative error), report.json holds it as "features".
 
 Writes demo.FCStd, one STEP per solid result, STL for the meshes, PLY for the clouds,
-before/after PNGs and report.md / report.json. Every invariant is measured against an
+before/after PNGs rendered by FreeCAD's 3D view (the GUI under xvfb-run runs
+demo_pictures.py; the "Pictures" section checks them) and report.md / report.json. Every invariant is measured against an
 independent oracle (a section's area from Shape.slice, a common with a box, the normals
 of the base's faces, an edge count of the mesh, a nearest-neighbour query, Pappus' theorem,
 rotations written out with Rodrigues' formula, point means per layer). The job exits
