@@ -99,13 +99,17 @@ class _Collapser:
     one live entry of a pair, so superseded pushes are skipped. Each collapse u -> v
     re-queues every pair whose cost or checks it can change (those from v and from u's
     old neighbours, and those into v), so a live entry's cost is current and a pair
-    refused when popped comes back once its neighbourhood changes.
+    refused when popped comes back once its neighbourhood changes. The quadrics are
+    plain lists of floats: a collapse re-costs a dozen pairs, where numpy's per-call
+    cost would be most of the loop.
     """
 
     def __init__(self, V, T, lab, tolerance):
         n = len(V)
-        kind, ends, self.A = _setup(V, T, lab)
-        self.b, self.c = np.zeros((n, 3)), np.zeros(n)
+        kind, ends, A = _setup(V, T, lab)
+        self.A = A.reshape(n, 9).tolist()
+        self.trace = np.trace(A, axis1=1, axis2=2).tolist()
+        self.b, self.c = [[0.0, 0.0, 0.0] for _ in range(n)], [0.0] * n
         self.kind, self.lab = kind.tolist(), lab.tolist()
         self.along = {u: [] for u in np.flatnonzero(kind == LINE).tolist()}
         for a, b in ends.tolist():
@@ -129,37 +133,58 @@ class _Collapser:
 
     def queue(self, pairs):
         """Push the collapses u -> v among `pairs` whose cost is within the tolerance."""
+        stamp, tol2, mean_cost = self.stamp, self.tol2, self.mean_cost
+        for u, v in pairs:
+            c = mean_cost(u, v)
+            if c > tol2:
+                stamp.pop((u, v), None)
+            elif stamp.get((u, v), (0, None))[1] != c:
+                self.count += 1
+                stamp[u, v] = self.count, c
+                heapq.heappush(self.heap, (c, self.count, u, v))
+
+    def queue_all(self, pairs):
+        """queue() for the first pairs, costed at once (every quadric is still a sum of
+        planes through its vertex: b = c = 0)."""
         if not pairs:
             return
         us, vs = np.array(pairs).T
-        for (u, v), c in zip(pairs, self.mean_cost(us, vs).tolist()):
-            if c > self.tol2:
-                self.stamp.pop((u, v), None)
-            elif self.stamp.get((u, v), (0, None))[1] != c:
-                self.count += 1
-                self.stamp[u, v] = self.count, c
-                heapq.heappush(self.heap, (c, self.count, u, v))
+        d = self.V[vs] - self.V[us]
+        A = np.array(self.A).reshape(-1, 3, 3)
+        cost = 0.0 + np.einsum("ki,kij,kj->k", d, A[us], d)
+        trace = np.array(self.trace)
+        cost = np.where(np.array(self.kind)[us] == INTERIOR, cost / (trace[us] + trace[vs]),
+                        cost)
+        keep = np.flatnonzero(cost <= self.tol2)
+        self.heap = [(c, k + 1, u, v) for k, (c, u, v) in enumerate(zip(
+            cost[keep].tolist(), us[keep].tolist(), vs[keep].tolist()))]
+        self.stamp = {(u, v): (k, c) for c, k, u, v in self.heap}
+        self.count = len(self.heap)
+        heapq.heapify(self.heap)
 
-    def mean_cost(self, us, vs):
+    def mean_cost(self, u, v):
         """cost(), per merged plane for a vertex inside a region: its mean squared distance
         to them (their count is the trace of the summed n n^T). A sum grows with every
         merge and would keep a finely meshed curved region (a cylinder with interior
         vertices) fine, where the handle needs long prisms; boundary lines keep the sum,
         so curved boundaries keep the vertices that make them round."""
-        count = np.trace(self.A[us], axis1=1, axis2=2) + np.trace(self.A[vs], axis1=1, axis2=2)
-        inside = np.array([self.kind[u] for u in us]) == INTERIOR
-        return self.cost(us, vs) / np.where(inside, count, 1.0)
+        if self.kind[u] == INTERIOR:
+            return self.cost(u, v) / (self.trace[u] + self.trace[v])
+        return self.cost(u, v)
 
-    def cost(self, us, vs):
-        """Quadric error of moving each u to its v: Q_v at v plus Q_u at v.
+    def cost(self, u, v):
+        """Quadric error of moving u to v: Q_v at v plus Q_u at v.
 
         Each vertex keeps its quadric as (A, b, c) about its own position, where the planes
         of its original triangles pass through it (b = c = 0 to start); this avoids the
         cancellation of evaluating the homogeneous 4 x 4 form far from the origin.
         """
-        d = self.V[vs] - self.V[us]
-        return (self.c[vs] + self.c[us] + 2 * np.einsum("ki,ki->k", self.b[us], d)
-                + np.einsum("ki,kij,kj->k", d, self.A[us], d))
+        p, q = self.P[u], self.P[v]
+        x, y, z = q[0] - p[0], q[1] - p[1], q[2] - p[2]
+        a, b = self.A[u], self.b[u]
+        return (self.c[v] + self.c[u] + 2 * (b[0] * x + b[1] * y + b[2] * z)
+                + (x * a[0] * x + x * a[1] * y + x * a[2] * z + y * a[3] * x + y * a[4] * y
+                   + y * a[5] * z + z * a[6] * x + z * a[7] * y + z * a[8] * z))
 
     def allowed(self, u, v):
         """Link condition, no duplicate triangle, no flipped or degenerate triangle."""
@@ -204,8 +229,14 @@ class _Collapser:
                 nbr[x].add(v)
                 nbr[v].add(x)
         self.c[v] = cost  # u's quadric moved to v's position, added to v's
-        self.b[v] += self.b[u] + self.A[u] @ (self.V[v] - self.V[u])
-        self.A[v] += self.A[u]
+        p, q, a = self.P[u], self.P[v], self.A[u]
+        x, y, z = q[0] - p[0], q[1] - p[1], q[2] - p[2]
+        bu, bv = self.b[u], self.b[v]
+        self.b[v] = [bv[0] + (bu[0] + (a[0] * x + a[1] * y + a[2] * z)),
+                     bv[1] + (bu[1] + (a[3] * x + a[4] * y + a[5] * z)),
+                     bv[2] + (bu[2] + (a[6] * x + a[7] * y + a[8] * z))]
+        A = self.A[v] = [s + t for s, t in zip(self.A[v], a)]
+        self.trace[v] = A[0] + A[4] + A[8]
         if self.kind[u] == LINE:
             w = next(x for x in self.along.pop(u) if x != v)
             for x, y in ((v, w), (w, v)):
@@ -215,20 +246,23 @@ class _Collapser:
 
     def run(self):
         """Collapse cheapest first until no admissible collapse is left."""
-        self.queue([(u, v) for u in range(len(self.P)) for v in self.targets(u)])
-        while self.heap:
-            cost, stamp, u, v = heapq.heappop(self.heap)
-            if self.stamp.get((u, v), (None,))[0] != stamp:
+        self.queue_all([(u, v) for u in range(len(self.P)) for v in self.targets(u)])
+        heap, stamp, nbr, kind, along = self.heap, self.stamp, self.nbr, self.kind, self.along
+        while heap:
+            cost, count, u, v = heapq.heappop(heap)
+            if stamp.get((u, v), (None,))[0] != count:
                 continue
-            del self.stamp[u, v]
-            if v not in self.nbr[u] or not self.allowed(u, v):
+            del stamp[u, v]
+            if v not in nbr[u] or not self.allowed(u, v):
                 continue
-            moved = self.nbr[u] - {v}
-            self.collapse(u, v, float(self.cost([u], [v])[0]))
+            moved = nbr[u] - {v}
+            self.collapse(u, v, self.cost(u, v))
             pairs = [(v, t) for t in self.targets(v)]
-            pairs += [(x, t) for x in moved for t in self.targets(x)]
-            pairs += [(w, v) for w in self.nbr[v] - moved
-                      if self.kind[w] == INTERIOR or v in self.along.get(w, ())]
+            # a pair without v keeps its cost: queued again only if it was popped (refused)
+            pairs += [(x, t) for x in moved for t in self.targets(x)
+                      if t == v or (x, t) not in stamp]
+            pairs += [(w, v) for w in nbr[v] - moved
+                      if kind[w] == INTERIOR or v in along.get(w, ())]
             self.queue(pairs)
 
 
