@@ -39,10 +39,21 @@ def _directed(T):
     return T.ravel(), np.roll(T, -1, axis=1).ravel()
 
 
+BLOCK = 16384   # rows a blocked loop takes at a time: its temporaries stay in the CPU cache
+
+
 def signed(V, o, n):
-    """The signed distances (V - o) @ n (N,): exactly 0 at a vertex equal to o (the
-    cheaper V @ n - o . n is not)."""
-    return (V - o) @ n
+    """The signed distances (V - o) @ n (N,), BLOCK rows at a time: exactly 0 at a vertex
+    equal to o (the cheaper V @ n - o . n is not), without an (N, 3) temporary."""
+    V = np.asarray(V, float).reshape(-1, 3)
+    s = np.empty(len(V))
+    rows = np.empty((min(BLOCK, len(V)), 3))
+    for i in range(0, len(V), BLOCK):
+        block = V[i:i + BLOCK]
+        r = rows[:len(block)]
+        np.subtract(block, o, out=r)
+        np.matmul(r, n, out=s[i:i + BLOCK])
+    return s
 
 
 class Split(NamedTuple):

@@ -10,7 +10,7 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from .cut import arrays, cut_arrays, placed, seam, signed, split, without_flat
+from .cut import BLOCK, arrays, cut_arrays, placed, seam, signed, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, unit_normal
 from ..vectors import skew, unit
@@ -169,24 +169,31 @@ def move_by_fraction(points, f, motion_of_s, in_place=False):
 
     A motion with `moved` (twist_motion, bend_motion) moves the points at f = 1 by its one
     end transform and turns those between directly, one Rodrigues rotation per point on
-    float arrays; any other goes through its (K, 4, 4) transforms, one per distinct
-    fraction. Rows are gathered with take (fancy indexing of rows is 10x slower)."""
+    float arrays, BLOCK rows at a time (the temporaries of a block stay in the CPU cache:
+    twice as fast as whole-array passes on a million points); any other goes through its
+    (K, 4, 4) transforms, one per distinct fraction."""
     P = np.asarray(points, float)
-    out = P if in_place else P.copy()
-    if hasattr(motion_of_s, "moved"):
-        end = np.asarray(motion_of_s(1.0), float).reshape(4, 4)
-        far = np.flatnonzero(f >= 1)
-        moved = P.take(far, axis=0) @ np.ascontiguousarray(end[:3, :3].T)
-        moved += end[:3, 3]
-        mid = np.flatnonzero((f > 0) & (f < 1))
-        turned = motion_of_s.moved(P.take(mid, axis=0), f.take(mid))
-        out[far] = moved
-        out[mid] = turned
+    if not hasattr(motion_of_s, "moved"):
+        out = P if in_place else P.copy()
+        move = np.flatnonzero(f > 0)
+        fractions, which = np.unique(f.take(move), return_inverse=True)   # one per plane
+        out[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)],
+                               P.take(move, axis=0))
         return out
-    move = np.flatnonzero(f > 0)
-    fractions, which = np.unique(f.take(move), return_inverse=True)   # a plane's points share one
-    out[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)],
-                           P.take(move, axis=0))
+    out = P if in_place else np.empty_like(P)
+    end = np.asarray(motion_of_s(1.0), float).reshape(4, 4)
+    turn = np.ascontiguousarray(end[:3, :3].T)
+    for i in range(0, len(P), BLOCK):
+        p, fb, o = P[i:i + BLOCK], f[i:i + BLOCK], out[i:i + BLOCK]
+        far = np.flatnonzero(fb >= 1)
+        mid = np.flatnonzero((fb > 0) & (fb < 1))
+        moved = p.take(far, axis=0) @ turn
+        moved += end[:3, 3]
+        turned = motion_of_s.moved(p.take(mid, axis=0), fb.take(mid))
+        if o is not p:
+            o[...] = p
+        o[far] = moved
+        o[mid] = turned
     return out
 
 
@@ -223,7 +230,8 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     # which triangles cross a plane: only those whose corners are not all in one cell
     # between planes can, and only those are sorted (most triangles of a fine mesh cross
     # none); then from their lowest and highest level alone
-    cell = np.floor(u).astype(np.int16 if samples < 30000 else np.int32).take(T)
+    small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
+    cell = np.floor(u).astype(small).take(T)
     maybe = np.flatnonzero((cell[:, 0] != cell[:, 1]) | (cell[:, 1] != cell[:, 2]))
     Tm = T.take(maybe, axis=0)
     u0, u1, u2 = u.take(Tm).T
