@@ -29,6 +29,7 @@ METHODS = ("Lagrange-Newton", "Penalty")
 MAX_ITERATIONS = 60
 FOLDED = 1e-10          # AreaError / area beyond which the result is refused
 MAX_VARIABLES = 2000    # beyond this the dense KKT solve takes minutes: LargeProblem
+LEAST_CURVATURE = 0.1   # W's least eigenvalue after a shift, in units of |t|^2 / 2's (1)
 
 
 class Solution(NamedTuple):
@@ -340,26 +341,28 @@ def _kkt_step(W, g, t, c):
     """Solve [[W, g], [g^T, 0]] [dt, lambda] = [-t, -c]. W need only be positive definite
     on the constraint's tangent space (then dt is a descent direction): W + sigma g g^T
     positive definite for a large sigma says so, and its Cholesky factor solves the
-    system (g^T dt = -c makes the added term a shift of lambda by sigma c); else W is
-    shifted on the whole space by the least 1e-8 scale 2^k that makes it definite, k
-    found from W's smallest eigenvalue (Lanczos) instead of by doubling.
-    (Shifting whenever W itself is indefinite made Newton crawl on large moves.)"""
+    system (g^T dt = -c makes the added term a shift of lambda by sigma c). Else W is
+    shifted on the whole space so its least eigenvalue (Lanczos) becomes
+    LEAST_CURVATURE: a shift that only just makes W definite leaves it nearly singular,
+    the step runs along that eigenvector far past the constraint and the line search
+    cuts it to nothing (100 terrain poles crawled 7 iterations so). (Shifting whenever W
+    itself is indefinite, even where W is definite on the tangent space, made Newton
+    crawl on large moves.)"""
     n = len(t)
     scale = max(1.0, np.abs(W).max())
     sigma = 1e3 * scale / (g @ g)
     factor = _cholesky(W + sigma * np.outer(g, g))
     if factor is None:
-        sigma, base = 0.0, 1e-8 * scale
+        sigma = 0.0
         try:
             low = float(eigsh(W, k=1, which="SA", v0=np.ones(n), tol=1e-6,
                               return_eigenvectors=False)[0])
         except (ArpackNoConvergence, ValueError):  # ValueError: n too small for ARPACK
             low = float(np.linalg.eigvalsh(W)[0])
-        k = int(np.ceil(np.log2(max(-low, base) / base)))
+        shift = -low + LEAST_CURVATURE
         while factor is None:
-            shift = base * 2.0 ** k
             factor = _cholesky(W + shift * np.eye(n))
-            k += 1
+            shift *= 2
     a, b = cho_solve(factor, t, check_finite=False), cho_solve(factor, g, check_finite=False)
     mu = (c - g @ a) / (g @ b)
     return -a - mu * b, float(mu - sigma * c)
