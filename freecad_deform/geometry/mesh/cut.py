@@ -42,6 +42,17 @@ def _directed(T):
 BLOCK = 16384   # rows a blocked loop takes at a time: its temporaries stay in the CPU cache
 
 
+def compress_rows(mask, T, out):
+    """T's rows where `mask`, written in order into `out`, BLOCK rows at a time (in the
+    cache: np.compress with out= is 5x slower, a gather by indices 2x); returns how many."""
+    at = 0
+    for i in range(0, len(T), BLOCK):
+        block = np.compress(mask[i:i + BLOCK], T[i:i + BLOCK], axis=0)
+        out[at:at + len(block)] = block
+        at += len(block)
+    return at
+
+
 def signed(V, o, n):
     """The signed distances (V - o) @ n (N,), BLOCK rows at a time: exactly 0 at a vertex
     equal to o (the cheaper V @ n - o . n is not), without an (N, 3) temporary."""

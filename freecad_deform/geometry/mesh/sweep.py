@@ -10,7 +10,8 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from .cut import BLOCK, arrays, cut_arrays, placed, seam, signed, split, without_flat
+from .cut import (BLOCK, arrays, compress_rows, cut_arrays, placed, seam, signed, split,
+                  without_flat)
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, unit_normal
 from ..vectors import skew, unit
@@ -50,8 +51,8 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     # the pieces' sides: far when a corner is beyond the plane (the new vertices are on it)
     corner = np.where(pieces < N, sp.code.take(np.minimum(pieces, N - 1)), 4)
     piece_far = ((corner[:, 0] | corner[:, 1] | corner[:, 2]) & 1) == 1
-    near_rows = np.flatnonzero((side & 1) == 0)
-    far_rows = np.flatnonzero((side & 3) == 1)
+    is_near, is_far = (side & 1) == 0, (side & 3) == 1
+    near_count, far_rows = int(np.count_nonzero(is_near)), np.flatnonzero(is_far)
     near_pieces, far_pieces = pieces[~piece_far], pieces[piece_far]
     # only the triangles with a corner on the plane can share one with the other side
     near_touch = T[np.flatnonzero((side & 5) == 4)]
@@ -91,13 +92,13 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     band = np.stack([np.stack([A[:-1], B[:-1], B[1:]], -1),
                      np.stack([A[:-1], B[1:], A[1:]], -1)], 1).reshape(-1, 3)
     # the result's triangles written once: near (kept, pieces), far (kept, pieces), band
-    sizes = np.cumsum([0, len(near_rows), len(near_pieces), len(far_rows), len(far_pieces),
+    sizes = np.cumsum([0, near_count, len(near_pieces), len(far_rows), len(far_pieces),
                        len(band)])
     out = np.empty((sizes[-1], 3), np.int64)
-    T.take(near_rows, axis=0, out=out[:sizes[1]], mode="clip")
+    compress_rows(is_near, T, out[:sizes[1]])
     out[sizes[1]:sizes[2]] = near_pieces
     far_kept = out[sizes[2]:sizes[3]]
-    T.take(far_rows, axis=0, out=far_kept, mode="clip")
+    compress_rows(is_far, T, far_kept)
     far_kept[np.searchsorted(far_rows, far_touch_rows)] = copies(far_touch)
     out[sizes[3]:sizes[4]] = copies(far_pieces)
     out[sizes[4]:] = band
@@ -217,22 +218,35 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     N = len(V)
     s = signed(V, o, n) if s is None else s
     h = gap / samples
-    j = np.rint(s / h)
-    np.clip(j, 0, samples, out=j)
-    d = s - gap * j / samples
-    snap = np.flatnonzero(np.abs(d) <= eps)
-    d_snap, j_snap = d.take(snap), j.take(snap)
-    s[snap] -= d_snap
-    # level in plane units, exact on the planes; clipped so that floor/ceil stay integers
-    u = s / h
-    u[snap] = j_snap
-    np.clip(u, -1.0, samples + 1.0, out=u)
+    # per vertex, BLOCK at a time (in the cache): the nearest plane j, the vertices within
+    # eps of it (snapped), the level u in plane units (exact on the planes; clipped so
+    # that floor/ceil stay integers) and its cell between planes
+    u = np.empty(N)
+    small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
+    cell = np.empty(N, small)
+    snaps = []
+    for i in range(0, N, BLOCK):
+        sb, ub = s[i:i + BLOCK], u[i:i + BLOCK]
+        j = np.rint(sb / h)
+        np.clip(j, 0, samples, out=j)
+        d = sb - gap * j / samples
+        on = np.flatnonzero(np.abs(d) <= eps)
+        sb[on] -= d.take(on)
+        np.divide(sb, h, out=ub)
+        ub[on] = j.take(on)
+        np.clip(ub, -1.0, samples + 1.0, out=ub)
+        np.floor(ub, out=cell[i:i + BLOCK], casting="unsafe")
+        snaps.append((on + i, d.take(on), j.take(on)))
+    snap, d_snap, j_snap = (np.concatenate(x) for x in zip(*snaps)) if snaps else \
+        (np.empty(0, np.int64), np.empty(0), np.empty(0))
     # which triangles cross a plane: only those whose corners are not all in one cell
     # between planes can, and only those are sorted (most triangles of a fine mesh cross
     # none); then from their lowest and highest level alone
-    small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
-    cell = np.floor(u).astype(small).take(T)
-    maybe = np.flatnonzero((cell[:, 0] != cell[:, 1]) | (cell[:, 1] != cell[:, 2]))
+    maybe = []
+    for i in range(0, len(T), BLOCK):
+        c = cell.take(T[i:i + BLOCK])
+        maybe.append(np.flatnonzero((c[:, 0] != c[:, 1]) | (c[:, 1] != c[:, 2])) + i)
+    maybe = np.concatenate(maybe) if maybe else np.empty(0, np.int64)
     Tm = T.take(maybe, axis=0)
     u0, u1, u2 = u.take(Tm).T
     f_ac, n_ac = _planes_between(np.minimum(np.minimum(u0, u1), u2),
@@ -374,7 +388,7 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     out = np.empty((kept + len(new), 3), np.int64)
     keep = np.ones(len(T), bool)
     keep[rows] = False
-    T.take(np.flatnonzero(keep), axis=0, out=out[:kept], mode="clip")   # compress(out=) is 5x slower
+    compress_rows(keep, T, out)
     out[kept:] = new
     return W, out, fractions
 
