@@ -180,6 +180,14 @@ class Problem:
         self.movable = np.array([m for g in groups for m in g], int)
         self.D, self.fallbacks = directions(self.Q, groups, dof, quadrature.surface)
         self.Dt = self.D.T.tocsr()
+        # every group one pole: D is block diagonal, (3, d) per pole, d = n / k columns
+        k, n = len(self.movable), self.D.shape[1]
+        self.blocks = None
+        if len(groups) == k and n % k == 0:
+            D = self.D.tocoo()
+            pole, d = D.row // 3, n // k
+            self.blocks = np.zeros((k, 3, d))
+            self.blocks[pole, D.row % 3, D.col - pole * d] = D.data
 
     def poles(self, t):
         P = self.Q.reshape(-1, 3).copy()
@@ -197,11 +205,21 @@ class Problem:
 
     def hessian(self, t):
         H = self.q.hessian(self.poles(t), self.movable, self.exact)
-        return np.asarray((self.Dt @ H) @ self.D)
+        B = self.blocks
+        if B is None:
+            return np.asarray((self.Dt @ H) @ self.D)
+        k, _, d = B.shape
+        if d == 3 and np.array_equal(B, np.broadcast_to(np.eye(3), B.shape)):
+            return H                                        # Free: D = I
+        H = H.reshape(k, 3, k, 3)
+        left = np.einsum("aix,aibj->axbj", B, H)
+        return np.einsum("axbj,bjy->axby", left, B).reshape(k * d, k * d)
 
     def step(self, t, lam, g, c):
         """The Newton step (dt, new lambda) of the KKT system at (t, lam)."""
-        return _kkt_step(np.eye(len(t)) + lam * self.hessian(t), g, t, c)
+        W = self.hessian(t) * lam
+        W.flat[::len(t) + 1] += 1.0
+        return _kkt_step(W, g, t, c)
 
 
 class LargeProblem(Problem):
