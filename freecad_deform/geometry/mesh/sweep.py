@@ -10,8 +10,8 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from .cut import (BLOCK, arrays, compress_rows, cut_arrays, placed, seam, signed, split,
-                  without_flat)
+from .cut import (BLOCK, add_rows, arrays, compress_rows, cut_arrays, placed, seam, signed,
+                  split, tiled, without_flat)
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, unit_normal
 from ..vectors import skew, unit
@@ -183,13 +183,12 @@ def move_by_fraction(points, f, motion_of_s, in_place=False):
         return out
     out = P if in_place else np.empty_like(P)
     end = np.asarray(motion_of_s(1.0), float).reshape(4, 4)
-    turn = np.ascontiguousarray(end[:3, :3].T)
+    turn, shift = np.ascontiguousarray(end[:3, :3].T), tiled(end[:3, 3])
     for i in range(0, len(P), BLOCK):
         p, fb, o = P[i:i + BLOCK], f[i:i + BLOCK], out[i:i + BLOCK]
         far = np.flatnonzero(fb >= 1)
         mid = np.flatnonzero((fb > 0) & (fb < 1))
-        moved = p.take(far, axis=0) @ turn
-        moved += end[:3, 3]
+        moved = add_rows(p.take(far, axis=0) @ turn, shift)
         turned = motion_of_s.moved(p.take(mid, axis=0), fb.take(mid))
         if o is not p:
             o[...] = p
@@ -466,14 +465,17 @@ def _vectorized(fn, point, direction, angle, shift=None):
     translation(-fraction * shift)) as taking arrays, and give it `moved(points, fracs)`:
     each point (K, 3) moved by fn(fracs[i]) without building its 4x4."""
     c = np.asarray(point, float)
+    minus_c = tiled(-c)
     K = skew(unit(direction, "Axis")).T
 
     def moved(points, fracs):
         f = np.asarray(fracs, float)
-        Q = np.asarray(points, float)
+        Q = np.ascontiguousarray(points, float)
         if shift is not None:
             Q = Q - f[:, None] * shift
-        kr = (Q - c) @ K                                       # k x r, r from the axis point
+        r = np.add(Q.reshape(-1), minus_c[:Q.size]).reshape(-1, 3) if Q.size <= minus_c.size \
+            else Q - c                        # r from the axis point, flat (see tiled)
+        kr = r @ K                                             # k x r
         kkr = kr @ K
         phi = f * angle
         half = np.sin(phi / 2)

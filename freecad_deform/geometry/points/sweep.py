@@ -6,7 +6,7 @@ by sampled configurations of the motion, as in the paper's point-cloud examples.
 import numpy as np
 
 from ..errors import DeformError
-from ..mesh.cut import BLOCK, signed
+from ..mesh.cut import BLOCK, add_rows, signed, tiled
 from ..mesh.sweep import move_by_fraction
 from ..sweep.motion import apply
 from ..sweep.planes import TOUCH, check_crossing, unit_normal
@@ -66,12 +66,12 @@ def _moved(pts, far, matrix, extra):
     gather of the far ones; BLOCK rows at a time, in the cache), then `extra` rows left
     for the fill."""
     out = np.empty((len(pts) + extra, 3))
-    turn = np.ascontiguousarray(matrix[:3, :3].T)
+    turn, shift = np.ascontiguousarray(matrix[:3, :3].T), tiled(matrix[:3, 3])
     for i in range(0, len(pts), BLOCK):
         p = pts[i:i + BLOCK]
         head = out[i:i + len(p)]
         np.matmul(p, turn, out=head)
-        head += matrix[:3, 3]
+        add_rows(head, shift)
         near = np.flatnonzero(~far[i:i + BLOCK])
         head[near] = p.take(near, axis=0)
     return out
