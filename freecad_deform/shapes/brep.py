@@ -345,6 +345,9 @@ def join(solids, joints, prop="Plane"):
     on_surface = joints if callable(joints) else on_planes(joints)
     if len(solids) > 1:
         faces = _unshared_faces(solids, on_surface)
+        solid = _glued(solids, faces, on_surface)  # merged and checked
+        if solid is not None:
+            return solid
         for sew in (lambda: _sewn_pieces(solids, faces), lambda: _sewn(faces)):
             sewn = sew()
             if sewn is not None:
@@ -388,6 +391,78 @@ def _unshared_faces(solids, on_surface):
         faces += [f for m, f in enumerate(fs) if m not in keys[i] or not any(
             np.allclose(keys[i][m], o, rtol=0, atol=1e-9) for o in others)]
     return faces
+
+
+def _glued(solids, faces, on_surface):
+    """The pieces joined into one solid of `faces` (theirs but those they meet on), the
+    faces split at the joints merged and checked; None where this does not work.
+
+    Only the faces with a vertex on a joint are sewn and merged (without their holes clear
+    of the joint, put back after); sewing and merging keep the edges these share with the
+    pieces' other faces, so they go into the first piece in place of its own faces at the
+    joints, with the other pieces' faces (BRepTools_ReShape): no search over the whole part.
+    Pieces with voids are left to the full sewing. The sewn faces must keep their
+    orientation: an edge they share has opposite orientations in its two faces, and an edge
+    they share with the rest the one it had before.
+    """
+    if any(len(s.Shells) != 1 for s in solids):
+        return None
+    keep = {f.hashCode() for f in faces}
+    joint = set().union(*(joint_vertices(s, on_surface) for s in solids))
+
+    def meets(sub):
+        return any(v.hashCode() in joint for v in sub.Vertexes)
+
+    touched = [f for f in faces if meets(f)]
+    mine = {f.hashCode() for f in touched}
+    reduced, holes = _clear_holes_out(touched, meets)
+    sewn = Part.makeCompound(reduced)
+    try:
+        sewn.sewShape()
+    except Part.OCCError:
+        return None
+    if len(sewn.Faces) != len(touched) or not _kept_orientation(reduced, sewn.Faces):
+        return None
+    joint |= joint_vertices(sewn, on_surface)  # sewing made new vertices at the joints
+    merged = _unified(sewn.Faces, joint, on_surface)
+    if merged is None or not _holes_back(reduced, holes, merged, mine):
+        return None
+    # sewing and merging hand back as they were the faces they had nothing to do with:
+    # those of the first piece stay in it; no face may be both replaced and replacing
+    host = solids[0]
+    own = {f.hashCode() for f in host.Faces}
+    stays = {f.hashCode() for f in merged} & own
+    gone = [f for f in host.Faces if f.hashCode() not in stays and (
+        f.hashCode() not in keep or f.hashCode() in mine)]
+    new = [f for f in merged if f.hashCode() not in mine]
+    added = [f for f in merged if f.hashCode() not in own] + [
+        f for s in solids[1:] for f in s.Faces if f.hashCode() in keep - mine - own]
+    if not gone or not added:
+        return None
+    try:
+        out = host.removeShape(gone[1:]) if len(gone) > 1 else host
+        out = out.replaceShape([(gone[0], Part.makeCompound(added))])
+    except Part.OCCError:
+        return None
+    if out.ShapeType != "Solid" or len(out.Faces) != len(faces) - len(touched) + len(
+            merged) or not _valid_faces(new, meets) or not _shells_valid(out):
+        return None
+    return out
+
+
+def _kept_orientation(before, after):
+    """Whether the sewn faces `after` are oriented as `before`: each edge of theirs that
+    `before` had is used as often in each orientation, and each new one once each way."""
+    def uses(faces):
+        found = {}
+        for face in faces:
+            for edge in (e for w in face.Wires for e in w.OrderedEdges if not e.Degenerated):
+                found.setdefault(edge.hashCode(), []).append(edge.Orientation)
+        return found
+
+    old, new = uses(before), uses(after)
+    return all(sorted(o) == sorted(old[h]) if h in old else sorted(o) == ["Forward", "Reversed"]
+               for h, o in new.items())
 
 
 def _sewn_pieces(solids, faces):
@@ -467,7 +542,6 @@ def _merged_at_joints(solid, on_surface, many_wires=8):
     several times the split. The merged faces replace theirs in the solid; the rest of it
     (the Base's own faces, moved or not) is untouched.
     """
-    from Part import ShapeUpgrade
     joint = joint_vertices(solid, on_surface)
 
     def meets(sub):
@@ -476,32 +550,10 @@ def _merged_at_joints(solid, on_surface, many_wires=8):
     touched = [f for f in solid.Faces if meets(f)]
     if not touched:
         return solid if _valid_at_joints(solid, on_surface) else None
-    reduced, holes = [], []
-    for face in touched:
-        outer = face.OuterWire
-        drop = [w for w in face.Wires if not w.isSame(outer) and not meets(w)]
-        reduced.append(face.removeShape(drop) if len(face.Wires) > many_wires and drop else face)
-        holes.append(drop if reduced[-1] is not face else [])
-    compound = Part.makeCompound(reduced)
-    unify = ShapeUpgrade.UnifySameDomain(compound, True, True, False)
-    unify.setSafeInputMode(False)  # keep the edges the faces share with the rest of `solid`
-    unify.keepShapes([e for e in compound.Edges if not meets(e) or not on_surface(
-        np.array([tuple(v.Point) for v in e.Vertexes]))]
-        + [v for v in compound.Vertexes if v.hashCode() not in joint])
-    try:
-        unify.build()
-        merged = unify.shape().Faces
-    except Part.OCCError:
+    reduced, holes = _clear_holes_out(touched, meets, many_wires)
+    merged = _unified(reduced, joint, on_surface)
+    if merged is None or not _holes_back(reduced, holes, merged):
         return None
-    edges = [{e.hashCode() for e in f.Edges} for f in merged]
-    for face, drop in zip(reduced, holes):
-        if drop:  # into the merged face that kept the most of this face's edges
-            own = {e.hashCode() for e in face.Edges}
-            shared = [len(own & e) for e in edges]
-            best = int(np.argmax(shared))
-            if shared[best] == 0 or shared.count(shared[best]) > 1:
-                return None
-            merged[best].cutHoles(drop)
     before = {f.hashCode() for f in touched}
     after = {f.hashCode() for f in merged}
     gone = [f for f in touched if f.hashCode() not in after]
@@ -519,14 +571,67 @@ def _merged_at_joints(solid, on_surface, many_wires=8):
     return out
 
 
+def _unified(faces, joint, on_surface):
+    """`faces` merged across the edges that lie on a joint (OCCT's UnifySameDomain; every
+    other edge and vertex kept as it is, the same shapes), or None."""
+    from Part import ShapeUpgrade
+    compound = Part.makeCompound(faces)
+    unify = ShapeUpgrade.UnifySameDomain(compound, True, True, False)
+    unify.setSafeInputMode(False)  # keep the edges the faces share with the rest
+    unify.keepShapes([e for e in compound.Edges if not any(
+        v.hashCode() in joint for v in e.Vertexes) or not on_surface(
+        np.array([tuple(v.Point) for v in e.Vertexes]))]
+        + [v for v in compound.Vertexes if v.hashCode() not in joint])
+    try:
+        unify.build()
+        return unify.shape().Faces
+    except Part.OCCError:
+        return None
+
+
+def _clear_holes_out(faces, meets, many_wires=8):
+    """(faces, holes taken out of each): a face with more than `many_wires` wires without
+    its holes that do not `meet` a joint (new faces; the others are given back as they
+    are). Sewing and merging a face with hundreds of holes work on every one of them."""
+    reduced, holes = [], []
+    for face in faces:
+        drop = []
+        if len(face.Wires) > many_wires:
+            outer = face.OuterWire
+            drop = [w for w in face.Wires if not w.isSame(outer) and not meets(w)]
+        reduced.append(face.removeShape(drop) if drop else face)
+        holes.append(drop)
+    return reduced, holes
+
+
+def _holes_back(reduced, holes, faces, frozen=()):
+    """Put each face's holes back into the one of `faces` (made from `reduced` by sewing
+    or merging, which keep the edges they do not touch) that kept the most of its edges;
+    False where that is not one face, or one whose hashCode is in `frozen` (a face handed
+    back as it was, still part of a piece: it is changed in place)."""
+    edges = [{e.hashCode() for e in f.Edges} for f in faces]
+    for face, drop in zip(reduced, holes):
+        if drop:
+            own = {e.hashCode() for e in face.Edges}
+            shared = [len(own & e) for e in edges]
+            best = int(np.argmax(shared))
+            if shared[best] == 0 or shared.count(shared[best]) > 1 or \
+                    faces[best].hashCode() in frozen:
+                return False
+            faces[best].cutHoles(drop)
+    return True
+
+
 def _valid_faces(faces, meets, many_wires=8):
-    """OCCT's check of faces that meet a joint; on a face with many holes only of the wires
-    that meet it (BRepCheck of the whole face grows with the square of its holes)."""
+    """OCCT's check of faces that meet a joint; on a face with many holes only of its outer
+    wire and the wires that meet the joint (BRepCheck of the whole face grows with the
+    square of its holes)."""
     for face in faces:
         if len(face.Wires) <= many_wires:
             ok = face.isValid()
         else:
-            ok = all(w.isValid() for w in face.Wires if meets(w))
+            outer = face.OuterWire
+            ok = all(w.isValid() for w in face.Wires if meets(w) or w.isSame(outer))
         if not ok:
             return False
     return True
