@@ -10,8 +10,8 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from .cut import (BLOCK, add_rows, arrays, compress_rows, cut_arrays, placed, seam, signed,
-                  split, tiled, without_flat)
+from .cut import (BLOCK, add_rows, arrays, compress_rows, placed, seam, signed, split, tiled,
+                  without_flat)
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, unit_normal
 from ..vectors import skew, unit
@@ -33,7 +33,9 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     section ring and its moved copy is filled by the rings M(i/samples) (section ring),
     i = 0..samples, consecutive rings joined by two triangles per seam edge as in the
     stretch band (which this is for a translation and samples = 1). Closed 2-manifold in,
-    closed 2-manifold out (self-intersection is not checked beyond the test below).
+    closed 2-manifold out (self-intersection is not checked beyond the test below). The
+    result is written once: triangles near (kept, then the cut's pieces), far (likewise),
+    band; a vertex beyond the plane moves even when no triangle uses it.
 
     The motion must carry every section vertex toward the moving side at t = 0
     (velocity . normal > 0), else the band would fold back through the fixed part: a
