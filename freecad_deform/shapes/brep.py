@@ -498,11 +498,17 @@ def join_faces(faces, joints, prop):
     sewn = _sewn(faces)
     if sewn is None:
         raise DeformError(f"The swept faces do not close a solid; change {prop}.", prop)
-    solid, failure = _merged(sewn, joints if callable(joints) else on_planes(joints))
-    if solid is None:
+    return merge_joints(sewn, joints, prop)
+
+
+def merge_joints(solid, joints, prop):
+    """A solid (sewn already) with its faces split at the joints merged and checked there,
+    as join_faces gives it; a DeformError blaming `prop` when that is not valid."""
+    merged, failure = _merged(solid, joints if callable(joints) else on_planes(joints))
+    if merged is None:
         raise DeformError(f"The swept faces do not make one valid solid ({failure}); change "
                           f"{prop}.", prop)
-    return solid
+    return merged
 
 
 def _merged(fused, on_surface):

@@ -167,8 +167,7 @@ def sewn_solid(faces, joints, deviation, prop, slack=0.0):
     if wide is not None:
         solid = _tightened(solid, wide)
     try:  # the split faces merged again across the joints, on a copy (OCCT edits in place)
-        copy = solid.copy()
-        return _settled(brep.join_faces(copy.Faces, joints, prop))
+        return _settled(brep.merge_joints(solid.copy(), joints, prop))  # sewn already
     except DeformError:
         pass
     if not solid.isValid():
