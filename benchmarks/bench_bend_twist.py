@@ -32,8 +32,8 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 # bench_stretch puts FreeCAD's modules and the repository on sys.path and imports FreeCAD first
-from bench_stretch import (holed_plate, machine_line, options, print_profiles,  # noqa: E402
-                           print_table, progress, recompute, run_as_script, runs_line,
+from bench_stretch import (blocks_plane, holed_plate, machine_line, options,  # noqa: E402
+                           print_profiles, print_table, progress, recompute, run_as_script, runs_line,
                            seconds, stl_mesh, subdivided, surface_samples, testdata)
 
 import FreeCAD as App  # noqa: E402
@@ -47,6 +47,7 @@ from freecad_deform.ops.twist import twist_shape  # noqa: E402
 from freecad_deform.geometry.sweep import motion as mo  # noqa: E402
 from freecad_deform.geometry.mesh.sweep import map_between, sweep_mesh, twist_motion  # noqa: E402
 from freecad_deform.geometry.points.sweep import map_points_between, sweep_points  # noqa: E402
+from freecad_deform.ops.planes import section_centroid  # noqa: E402
 from freecad_deform.shapes import brep  # noqa: E402
 from freecad_deform.shapes.convert import points_from_array  # noqa: E402
 
@@ -58,7 +59,8 @@ SAMPLES = 16
 # none of them calls another, so the columns add up.
 BREP_CALLS = (("split", "generalFuse"), ("sweep", ("revolve", "makeLoft")), ("fuse", "fuse"),
               ("sew", "sewShape"), ("unify", "Part.ShapeUpgrade.UnifySameDomain"),
-              ("isValid", "isValid"), ("apart", "common"),
+              ("reshape", ("replaceShape", "removeShape")), ("isValid", "isValid"),
+              ("apart", "common"),
               ("continuity", ("joint_report", "_joints")))
 MAP_CALLS = (("kernel", ("sweep_points", "map_points_between", "sweep_mesh", "map_between")),
              ("to arrays", ("points_array", "mesh_arrays")),
@@ -339,14 +341,31 @@ def main(argv=None):
                          f"B-rep plate + 200 mm tail: Twist x=450..550, 90 deg, "
                          f"Samples {SAMPLES}"))
 
-    # 3. point clouds sampled on the part's surface
+    # 3. fc_blocks144.brep (one solid, 996 planar faces), as in the real-parts matrix: Bend at
+    # 30 % of the longest axis (z), 30 deg about an axis across the part a quarter of its
+    # second extent (y) beyond it; Twist between 30 % and 40 %, 30 deg about the default axis
+    blocks = Part.read(testdata("fc_blocks144.brep")).Solids[0]
+    bb = blocks.BoundBox
+    origin, normal, length = blocks_plane(blocks, 0.3)
+    side = Y * (bb.YMax + 0.25 * bb.YLength - origin[1])
+    add(brep, *brep_rows(timer, doc, "Blocks", blocks,
+                         Bend(origin, origin + side, 30, normal, np.cross(normal, Y)),
+                         bend_floor, f"B-rep fc_blocks144: Bend z={origin[2]:.2f} (30 %), axis "
+                                     f"y={origin[1] + side[1]:.1f} || x, 30 deg"))
+    centroid = section_centroid([blocks], origin, normal)
+    add(brep, *brep_rows(timer, doc, "Blocks", blocks,
+                         Twist(origin, 0.1 * length, 30, centroid, normal), twist_floor,
+                         f"B-rep fc_blocks144: Twist z={origin[2]:.2f}..{origin[2] + 0.1 * length:.2f}"
+                         f" (30..40 %), 30 deg, Samples {SAMPLES}"))
+
+    # 4. point clouds sampled on the part's surface
     bend = Bend([150.0, 0, 0], [150.0, 0, 260], -60)
     twist = Twist([100.0, 0, 0], 100.0, 90, [100.0, -52.5, 112.5])
     finest = sample_mesh(*meshes[-1])
     cloud = surface_samples(*finest, n_points)
     add(maps, *points_rows(timer, doc, cloud, bend, twist, features=True))
 
-    # 4. meshes of the part
+    # 5. meshes of the part
     for k, spec in enumerate(meshes):
         verts, tris = finest if k == len(meshes) - 1 else sample_mesh(*spec)
         add(maps, *mesh_rows(timer, doc, verts, tris, bend, twist, features=k == 0))

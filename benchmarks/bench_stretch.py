@@ -55,8 +55,9 @@ V = App.Vector
 X = np.array([1.0, 0.0, 0.0])
 
 # Calls a profiled recompute is split into: (column, the names the profiler may give it).
-BREP_CALLS = (("split", "generalFuse"), ("fuse", "fuse"),
-              ("unify", "Part.ShapeUpgrade.UnifySameDomain"), ("isValid", "isValid"),
+BREP_CALLS = (("split", "generalFuse"), ("fuse", "fuse"), ("sew", "sewShape"),
+              ("unify", "Part.ShapeUpgrade.UnifySameDomain"),
+              ("reshape", ("replaceShape", "removeShape")), ("isValid", "isValid"),
               ("continuity", ("joint_report", "_joints")))
 MESH_CALLS = (("kernel", "stretch_mesh"), ("to arrays", "mesh_arrays"),
               ("from arrays", "mesh_from_arrays"))
@@ -143,6 +144,17 @@ def holed_plate(nx, ny, size=400.0, thick=10.0, radius=4.0):
     return plate.cut(Part.makeCompound(holes)).Solids[0]
 
 
+def blocks_plane(solid, frac):
+    """(origin, normal, length): the plane across the longest bounding-box axis at `frac`
+    of it, through the box's centre otherwise (as the real-parts matrix places it)."""
+    bb = solid.BoundBox
+    lo, hi = np.array([bb.XMin, bb.YMin, bb.ZMin]), np.array([bb.XMax, bb.YMax, bb.ZMax])
+    k = int(np.argmax(hi - lo))
+    origin = (lo + hi) / 2
+    origin[k] = lo[k] + frac * (hi[k] - lo[k])
+    return origin, np.eye(3)[k], hi[k] - lo[k]
+
+
 def subdivided(vertices, triangles):
     """Each triangle split in four at its edge midpoints (shared edges share the midpoint)."""
     edges = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
@@ -181,10 +193,10 @@ def surface_samples(vertices, triangles, count, seed=0):
 
 # ---------------------------------------------------------------------------- cases
 
-def stretch_object(base, origin, distance):
-    """A Stretch of `base` at x = origin[0] by `distance`, created at Distance 0 (a cheap first
-    recompute) so the timed runs are the only full ones."""
-    obj = fd.make_stretch(base, (V(*origin), V(*X)), 0)
+def stretch_object(base, origin, distance, normal=X):
+    """A Stretch of `base` at the plane (origin, normal) by `distance`, created at Distance 0
+    (a cheap first recompute) so the timed runs are the only full ones."""
+    obj = fd.make_stretch(base, (V(*origin), V(*normal)), 0)
     obj.Distance = distance
     return obj
 
@@ -214,12 +226,12 @@ def occt_floor(solid, origin, normal):
     return (t1 - t0) + (t3 - t2)
 
 
-def brep_rows(timer, doc, name, solid, origin, distance, label):
+def brep_rows(timer, doc, name, solid, origin, distance, label, normal=X):
     base = doc.addObject("Part::Feature", name)
     base.Shape = solid
-    obj = stretch_object(base, origin, distance)
+    obj = stretch_object(base, origin, distance, normal)
     ours, n, parts, total = timer.profiled_median(recompute(doc, obj), BREP_CALLS)
-    floor, _ = timer.median(lambda: occt_floor(solid, origin, X), n)
+    floor, _ = timer.median(lambda: occt_floor(solid, origin, normal), n)
     size = f"{len(solid.Faces)} faces"
     return ([(label, size, n, ours, floor)],
             [(label, size, total, parts)],
@@ -379,7 +391,16 @@ def main(argv=None):
                             f"B-rep plate, x={x:.1f} {where}, +40 mm")
         add(r, p)
 
-    # 3. meshes of the sample part, subdivided
+    # 3. fc_blocks144.brep: one solid of 996 planar faces; the plane across its longest
+    # axis (z) at the middle, stretched by a tenth of that length (the real-parts case)
+    blocks = Part.read(testdata("fc_blocks144.brep")).Solids[0]
+    origin, normal, length = blocks_plane(blocks, 0.5)
+    r, p, _ = brep_rows(timer, doc, "Blocks", blocks, origin, 0.1 * length,
+                        f"B-rep fc_blocks144, z={origin[2]:.2f} (middle), "
+                        f"+{0.1 * length:.2f} mm", normal)
+    add(r, p)
+
+    # 4. meshes of the sample part, subdivided
     pts, tris = sample.tessellate(1.0)
     verts = np.array([tuple(q) for q in pts], float)
     tris = np.array(tris, dtype=np.int64)
@@ -390,7 +411,7 @@ def main(argv=None):
         if level in levels:
             add(*mesh_rows(timer, doc, verts, tris, mesh_origin, 40.0))
 
-    # 4. a point cloud sampled on the part's surface
+    # 5. a point cloud sampled on the part's surface
     cloud = surface_samples(verts, tris, n_points)
     add(*points_rows(timer, doc, cloud, mesh_origin, 40.0))
     App.closeDocument(doc.Name)
