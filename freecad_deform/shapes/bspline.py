@@ -223,12 +223,13 @@ def surface_arrays(surface):
 
 
 def with_poles(surface, poles):
-    """A copy of `surface` with its poles set to `poles` (nu, nv, 3), weights kept."""
+    """A copy of `surface` with its poles set to `poles` (nu, nv, 3), weights kept (the
+    copy's own: setPole with a weight rechecks every weight, 2.8 ms a pole on a
+    312 x 323-pole terrain, 6 minutes for all; without, 1 us)."""
     new = surface.copy()
-    weights = surface.getWeights()
     for i, row in enumerate(np.asarray(poles, float).tolist()):
         for j, p in enumerate(row):
-            new.setPole(i + 1, j + 1, App.Vector(*p), weights[i][j])
+            new.setPole(i + 1, j + 1, App.Vector(*p))
     return new
 
 
