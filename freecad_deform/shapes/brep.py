@@ -32,7 +32,9 @@ def oriented(solid):
     outer = int(np.argmax(np.abs(volumes)))
     if all((v > 0) == (k == outer) for k, v in enumerate(volumes)):
         copy = solid.copy()
-        _remember(copy, volumes)  # the same shells: their volumes are known
+        _remember(copy, volumes)  # the same shells: their volumes and box are known
+        _BOXES.append((copy, bound_box(solid)))
+        del _BOXES[:-16]
         return copy
     if len(volumes) == 1:
         return solid.reversed().copy()
@@ -54,6 +56,23 @@ def shell_volumes(solid):
     volumes = [sh.Volume for sh in solid.Shells]
     _remember(solid, volumes)
     return volumes
+
+
+_BOXES = []  # (shape, BoundBox) of recent solids, most recently used last
+
+
+def bound_box(shape):
+    """shape.BoundBox, remembered for the last few shapes: a Base's box is asked for by
+    several steps of every recompute, and OCCT computes it afresh each time (45 ms for
+    996 faces)."""
+    for entry in _BOXES:
+        if entry[0].isEqual(shape):
+            _BOXES.remove(entry)
+            _BOXES.append(entry)
+            return entry[1]
+    _BOXES.append((shape, shape.BoundBox))
+    del _BOXES[:-16]
+    return _BOXES[-1][1]
 
 
 def _remember(solid, volumes):
@@ -197,13 +216,13 @@ def extent(shape, origin, normal):
     """(min, max) signed distance of the shape's bounding-box corners to the plane."""
     from ..geometry.sweep.defaults import extent as box_extent
     from .convert import box_arrays
-    return box_extent(*box_arrays(shape.BoundBox), origin, normal)
+    return box_extent(*box_arrays(bound_box(shape)), origin, normal)
 
 
 def plane_face(shape, origin, normal):
     """A square planar face at the plane, larger than the shape."""
-    size = shape.BoundBox.DiagonalLength + np.linalg.norm(
-        np.array(tuple(shape.BoundBox.Center)) - origin) + 1.0
+    box = bound_box(shape)
+    size = box.DiagonalLength + np.linalg.norm(np.array(tuple(box.Center)) - origin) + 1.0
     u, v, _ = frame(normal)
     corners = [origin + size * (a * u + b * v) for a, b in ((1, 1), (-1, 1), (-1, -1), (1, -1), (1, 1))]
     return Part.Face(Part.makePolygon([vector(c) for c in corners]))
