@@ -7,9 +7,10 @@ Run from anywhere:
     /usr/bin/python3 benchmarks/bench_area_constrain.py --quick    # 1 run
 
 Prints tables, asserts nothing about time. The first table holds issue 16's rows (see
-issue_rows; benchmarks/README.md has the before/after table). The IGES-like 18 x 8 hood (deform_tests/oracles/nurbs.py)
-is timed next to the numbers the kernel before the graded quadrature gave on it. The paper's penalty Newton runs on its own
-cases only; on the 20 x 20 surface it is left out (a minute per run). The paper's MATLAB times: about 2 minutes for
+issue_rows; benchmarks/README.md has the before/after table). The IGES-like 18 x 8 hood
+(deform_tests/oracles/nurbs.py) is timed next to the numbers the kernel before the graded
+quadrature gave on it. The paper's penalty Newton runs on its own cases only; on the 20 x 20
+surface it is left out (a minute per run). The paper's MATLAB times: about 2 minutes for
 one variable, over 60 minutes for 18 variables. "solve" is the whole kernel solve
 (quadrature set-up, Newton iterations, the exactness re-check); the evaluation table puts
 one exact-area evaluation (two sparse products and the integrand) next to its floor: a
