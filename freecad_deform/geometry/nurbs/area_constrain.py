@@ -215,10 +215,10 @@ class Problem:
         left = np.einsum("aix,aibj->axbj", B, H)
         return np.einsum("axbj,bjy->axby", left, B).reshape(k * d, k * d)
 
-    def step(self, t, lam, g, c):
-        """The Newton step (dt, new lambda) of the KKT system at (t, lam)."""
+    def step(self, t, lam, g, c, damping=0.0):
+        """The Newton step (dt, new lambda) of the KKT system at (t, lam), W + damping I."""
         W = self.hessian(t) * lam
-        W.flat[::len(t) + 1] += 1.0
+        W.flat[::len(t) + 1] += 1.0 + damping
         return _kkt_step(W, g, t, c)
 
 
@@ -237,7 +237,7 @@ class LargeProblem(Problem):
         h = self.q.hessp(P, move.reshape(P.shape))
         return self.D.T @ h.reshape(-1, 3)[self.movable].ravel()
 
-    def step(self, t, lam, g, c):
+    def step(self, t, lam, g, c, damping=0.0):
         """The KKT step by projected conjugate gradients: dt = the part along g that meets
         the linearised constraint plus the tangential part minimising the model. Where CG
         meets negative curvature on the tangent space, W is shifted past it (as
@@ -255,7 +255,7 @@ class LargeProblem(Problem):
         size = max(np.linalg.norm(t), 1e-300)
         tol = min(1e-2, max(1e-10, 0.1 * (np.linalg.norm(t + lam * g) / size +
                                           abs(c) / (np.sqrt(gg) * size))))
-        shift = 0.0
+        shift = damping
         for _ in range(60):
             def W(v):
                 return (1 + shift) * v + lam * self.hessp(P, v)
@@ -304,6 +304,7 @@ def lagrange_newton(problem, target, start=None):
     n = problem.D.shape[1]
     t, lam = (np.zeros(n), 0.0) if start is None else start
     mu, residual, alpha = 0.0, np.inf, 1.0   # alpha: the last line search's step
+    damping = 0.0   # added to W after steps the line search cut hard (W nearly singular)
     for it in range(1, MAX_ITERATIONS + 1):
         a, g = problem.gradient(t)
         c = a - target
@@ -314,10 +315,10 @@ def lagrange_newton(problem, target, start=None):
         # Newton with the light Hessian converges linearly where that rule is poor (a
         # tiny knot span): then the Hessian from the area's own nodes
         new_residual = np.linalg.norm(t + lam * g) + abs(c) * np.linalg.norm(g)
-        if it > 3 and alpha == 1.0 and new_residual > 0.1 * residual:
+        if it > 3 and alpha == 1.0 and not damping and new_residual > 0.1 * residual:
             problem.exact = True
         residual = new_residual
-        dt, lam_new = problem.step(t, lam, g, c)
+        dt, lam_new = problem.step(t, lam, g, c, damping)
         mu = max(mu, 2 * abs(lam_new), 1e-12)
 
         def merit(x):
@@ -340,6 +341,13 @@ def lagrange_newton(problem, target, start=None):
         else:
             raise _stalled(problem, target)
         t, lam = trial, lam + alpha * (lam_new - lam)
+        # a step cut below 0.1: the model's curvature (W on the tangent space) is far too
+        # small along it (100 terrain poles crawled 60 steps at |dt| 13, alpha 1e-3), so W
+        # gets damped until full steps pass, then undamped again (Newton's end kept)
+        if alpha < 0.1:
+            damping = max(4 * damping, LEAST_CURVATURE)
+        elif alpha == 1.0:
+            damping = damping / 4 if damping > 1e-3 else 0.0
     raise _stalled(problem, target)
 
 
