@@ -113,7 +113,7 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
         beyond = sp.code == 1
         for k in range(3):
             if end[k, 3] != 0:
-                head[:, k] += beyond * end[k, 3]
+                np.add(head[:, k], end[k, 3], out=head[:, k], where=beyond)
         W[alone] += end[:3, 3]
         W[NK:base] += end[:3, 3]
     else:
