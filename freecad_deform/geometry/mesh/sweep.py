@@ -227,16 +227,16 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     cell = np.empty(N, small)
     snaps = []
     for i in range(0, N, BLOCK):
-        sb, ub = s[i:i + BLOCK], u[i:i + BLOCK]
-        j = np.rint(sb / h)
+        s_i, u_i = s[i:i + BLOCK], u[i:i + BLOCK]
+        j = np.rint(s_i / h)
         np.clip(j, 0, samples, out=j)
-        d = sb - gap * j / samples
+        d = s_i - gap * j / samples
         on = np.flatnonzero(np.abs(d) <= eps)
-        sb[on] -= d.take(on)
-        np.divide(sb, h, out=ub)
-        ub[on] = j.take(on)
-        np.clip(ub, -1.0, samples + 1.0, out=ub)
-        np.floor(ub, out=cell[i:i + BLOCK], casting="unsafe")
+        s_i[on] -= d.take(on)
+        np.divide(s_i, h, out=u_i)
+        u_i[on] = j.take(on)
+        np.clip(u_i, -1.0, samples + 1.0, out=u_i)
+        np.floor(u_i, out=cell[i:i + BLOCK], casting="unsafe")
         snaps.append((on + i, d.take(on), j.take(on)))
     snap, d_snap, j_snap = (np.concatenate(x) for x in zip(*snaps)) if snaps else \
         (np.empty(0, np.int64), np.empty(0), np.empty(0))
@@ -310,8 +310,8 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     t, i = _ranges(n_ac)
     jj = f_ac.take(t) + i
     ubt = ub.take(t)
-    short = np.where(jj < ubt, raw(np.maximum(e_ab.take(t), 0), jj),
-                     raw(np.maximum(e_bc.take(t), 0), jj))
+    short = np.where(jj < ubt, raw(np.maximum(e_ab.take(t), 0), jj),   # (-1: the edge crosses
+                     raw(np.maximum(e_bc.take(t), 0), jj))             # none; not chosen)
     seg = np.stack([raw(e_ac.take(t), jj), short], 1)[jj != ubt]
     P, label = _merge_segments(P, seg, eps)
     K = len(P)
