@@ -32,9 +32,7 @@ def oriented(solid):
     outer = int(np.argmax(np.abs(volumes)))
     if all((v > 0) == (k == outer) for k, v in enumerate(volumes)):
         copy = solid.copy()
-        _remember(copy, volumes)  # the same shells: their volumes and box are known
-        _BOXES.append((copy, bound_box(solid)))
-        del _BOXES[:-16]
+        _remember(copy, volumes)  # the same shells: their volumes are known
         return copy
     if len(volumes) == 1:
         return solid.reversed().copy()
@@ -64,7 +62,9 @@ _BOXES = []  # (shape, BoundBox) of recent solids, most recently used last
 def bound_box(shape):
     """shape.BoundBox, remembered for the last few shapes: a Base's box is asked for by
     several steps of every recompute, and OCCT computes it afresh each time (45 ms for
-    996 faces)."""
+    996 faces). Only a shape's own box: a copy's differs from its original's (OCCT bounds
+    a shape with a triangulation by it, one without by its poles: 6 mm apart on
+    occt_Bottom), and the split then differs with the box's size."""
     for entry in _BOXES:
         if entry[0].isEqual(shape):
             _BOXES.remove(entry)
