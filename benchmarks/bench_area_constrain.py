@@ -97,17 +97,22 @@ def hood_rows(timer):
     target = 1.03 * quadrature(s).area(s.poles)
     rows = []
     for dof in ("Normal", "Z", "Free"):
-        result = {}
-
-        def run():
-            result["sol"] = ac.constrain_surface_area(s, movable, target, dof)
-        t, n = timer.median(run)
-        sol = result["sol"]
+        t, n, sol = timed_solve(timer, s, movable, target, dof)
         variables = len(movable) * (3 if dof == "Free" else 1)
         rows.append((f"18x8 hood, {dof}, +3 %", f"{variables}", BEFORE_HOOD[dof], n,
                      seconds(t), sol.iterations, f"{abs(sol.area / target - 1):.1e}",
                      f"{sol.error / sol.area:.1e}", f"{len(sol.held)}"))
     return rows
+
+
+def timed_solve(timer, surface, movable, target, dof):
+    """constrain_surface_area timed by `timer`: (median seconds, runs, its solution)."""
+    result = {}
+
+    def run():
+        result["sol"] = ac.constrain_surface_area(surface, movable, target, dof)
+    t, n = timer.median(run)
+    return t, n, result["sol"]
 
 
 def cholesky_floor(n, iterations):
@@ -138,12 +143,7 @@ def issue_rows(timer, quick):
             ("18x8 C1 hood, Normal, +3 %", s, hood_poles, "Normal", 1.03),
             ("20x20 canopy, Free, +5 %", large, every, "Free", 1.05))[:1 if quick else 2]:
         target = ratio * quadrature(surface, movable).area(surface.poles)
-        result = {}
-
-        def run():
-            result["sol"] = ac.constrain_surface_area(surface, movable, target, dof)
-        t, n = timer.median(run)
-        sol = result["sol"]
+        t, n, sol = timed_solve(timer, surface, movable, target, dof)
         variables = len(movable) * (3 if dof == "Free" else 1)
         floor = cholesky_floor(variables, sol.iterations)
         rows.append((label, f"{variables}", BEFORE_ISSUE16.get(label, "-"), n, seconds(t),
