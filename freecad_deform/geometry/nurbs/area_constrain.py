@@ -188,6 +188,8 @@ class Problem:
             pole, d = D.row // 3, n // k
             self.blocks = np.zeros((k, 3, d))
             self.blocks[pole, D.row % 3, D.col - pole * d] = D.data
+        self.identity = self.blocks is not None and self.blocks.shape[2] == 3 and \
+            np.array_equal(self.blocks, np.broadcast_to(np.eye(3), self.blocks.shape))  # Free
 
     def poles(self, t):
         P = self.Q.reshape(-1, 3).copy()
@@ -208,9 +210,9 @@ class Problem:
         B = self.blocks
         if B is None:
             return np.asarray((self.Dt @ H) @ self.D)
-        k, _, d = B.shape
-        if d == 3 and np.array_equal(B, np.broadcast_to(np.eye(3), B.shape)):
+        if self.identity:
             return H                                        # Free: D = I
+        k, _, d = B.shape
         H = H.reshape(k, 3, k, 3)
         left = np.einsum("aix,aibj->axbj", B, H)
         return np.einsum("axbj,bjy->axby", left, B).reshape(k * d, k * d)
