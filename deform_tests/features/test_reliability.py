@@ -427,6 +427,13 @@ class ReliabilityTest(unittest.TestCase):
         t = fd.make_taper(cone, (V(0, 0, 0), V(1, 1, 0)), (V(0.001, 0, 0), V(1, 1, 0)), 2.4347)
         self.assertIn("move Plane2 farther", self.assert_refused(t, "Plane2"))
 
+    def test_steep_taper_names_the_scale_that_makes_it_steep(self):
+        """Scale (1, 3) over 0.01 mm: the refusal names Scale 3 (the one far from 1), not 1."""
+        box = self.doc.addObject("Part::Feature", "Box")
+        box.Shape = Part.makeBox(40, 20, 20, V(-20, -10, -10))
+        t = fd.make_taper(box, (V(0, 0, 0), V(1, 0, 0)), (V(0.01, 0, 0), V(1, 0, 0)), (1.0, 3.0))
+        self.assertIn("Scale 3 over", self.assert_refused(t, "Plane2"))
+
     def test_twist_through_a_void_near_its_poles(self):
         """Plane 0.0026 mm off a spherical void's poles: the void came back in two shells and
         the volume grew by 466 mm^3, Up-to-date; now refused naming Plane2, and with Plane

@@ -53,9 +53,11 @@ def _check_scale(shape, scale, point, axis, tolerance, gap):
                           f"refitted faces fold; keep Scale at "
                           f"{FOLD_MARGIN * tolerance / width:.3g} or more (or lower "
                           f"Tolerance).", "Scale")
-    steep = float(np.max(np.abs(np.asarray(scale, float) - 1.0))) * width / gap
+    scales = np.atleast_1d(np.asarray(scale, float))
+    steepest = float(scales[np.argmax(np.abs(scales - 1.0))])   # the scale farthest from 1
+    steep = abs(steepest - 1.0) * width / gap
     if steep > STEEPEST:
-        raise DeformError(f"Scale {least:g} over the {gap:.3g} mm between Plane and Plane2 moves "
+        raise DeformError(f"Scale {steepest:g} over the {gap:.3g} mm between Plane and Plane2 moves "
                           f"the part {steep:.3g} times farther sideways than along the region "
                           f"(at most {STEEPEST:g}); move Plane2 farther from Plane (at least "
                           f"{gap * steep / STEEPEST:.3g} mm) or bring Scale nearer 1.", "Plane2")
