@@ -9,7 +9,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..sweep.planes import unit_normal
+from ..sweep.planes import signed_distance, unit_normal
 
 
 def cut(vertices, triangles, origin, normal, eps=1e-9):
@@ -37,48 +37,6 @@ def arrays(vertices, triangles, copy=True):
 def _directed(T):
     """The directed edges of the triangles, T[:, j] -> T[:, j+1], flattened row by row."""
     return T.ravel(), np.roll(T, -1, axis=1).ravel()
-
-
-BLOCK = 16384   # rows a blocked loop takes at a time: its temporaries stay in the CPU cache
-
-
-def compress_rows(mask, T, out):
-    """T's rows where `mask`, written in order into `out`, BLOCK rows at a time (in the
-    cache: np.compress with out= is 5x slower, a gather by indices 2x); returns how many."""
-    at = 0
-    for i in range(0, len(T), BLOCK):
-        block = np.compress(mask[i:i + BLOCK], T[i:i + BLOCK], axis=0)
-        out[at:at + len(block)] = block
-        at += len(block)
-    return at
-
-
-def tiled(vector):
-    """A (3,) vector repeated for BLOCK rows, flat, to add it to a block of rows as one flat
-    operation: numpy broadcasts a (3,) vector over rows 3x slower (an inner loop of 3)."""
-    return np.tile(np.asarray(vector, float), BLOCK)
-
-
-def add_rows(rows, tile):
-    """rows (k <= BLOCK, 3), C-contiguous, plus the vector of `tile` (see tiled), in place."""
-    flat = rows.reshape(-1)
-    np.add(flat, tile[:flat.size], out=flat)
-    return rows
-
-
-def signed(V, o, n):
-    """The signed distances (V - o) @ n (N,), BLOCK rows at a time: exactly 0 at a vertex
-    equal to o (the cheaper V @ n - o . n is not), without an (N, 3) temporary."""
-    V = np.ascontiguousarray(V, float).reshape(-1, 3)
-    s = np.empty(len(V))
-    rows = np.empty(min(BLOCK, len(V)) * 3)
-    minus_o = tiled(-np.asarray(o, float))
-    for i in range(0, len(V), BLOCK):
-        block = V[i:i + BLOCK].reshape(-1)
-        r = rows[:block.size]
-        np.add(block, minus_o[:block.size], out=r)
-        np.matmul(r.reshape(-1, 3), n, out=s[i:i + BLOCK])
-    return s
 
 
 class Split(NamedTuple):
@@ -152,7 +110,7 @@ def cut_arrays(V, T, o, n, eps):
     """`cut` on clean arrays (see `arrays`); also returns s, exactly 0 for the vertices on
     the plane. The input's own triangles are kept as they are, in their order, followed by
     the cut ones' pieces."""
-    sp = split(V, T, o, n, eps, signed(V, o, n))
+    sp = split(V, T, o, n, eps, signed_distance(V, o, n))
     kept = np.flatnonzero((sp.side & 3) != 3)
     T = np.concatenate([T.take(kept, axis=0), sp.pieces])
     return placed(V, sp, n), T, np.concatenate([sp.s, np.zeros(len(sp.P))])

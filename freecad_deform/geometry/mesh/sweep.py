@@ -10,10 +10,10 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from .cut import (BLOCK, add_rows, arrays, compress_rows, placed, seam, signed, split, tiled,
-                  without_flat)
+from ..blocks import BLOCK, add_rows, compress_rows, tiled
+from .cut import arrays, placed, seam, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
-from ..sweep.planes import check_crossing, unit_normal
+from ..sweep.planes import check_crossing, signed_distance, unit_normal
 from ..vectors import skew, unit
 
 
@@ -44,7 +44,7 @@ def sweep_mesh(vertices, triangles, origin, normal, motion, samples=16, eps=1e-9
     V, T = arrays(vertices, triangles, copy=False)       # only new arrays are written
     o, n = np.asarray(origin, float), unit_normal(normal)
     samples = _check_samples(samples)
-    s = signed(V, o, n)
+    s = signed_distance(V, o, n)
     check_crossing(s, "Plane", eps, touching=True)
     sp = split(V, T, o, n, eps, s)
     N = len(V)
@@ -158,7 +158,7 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     if not np.isfinite(V).all():
         raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
                           "infinity); repair or replace the Base mesh.", "Base")
-    s = signed(V, o, n)
+    s = signed_distance(V, o, n)
     ends = np.array([s.min(), s.max()])       # all the plane tests need, without a copy of s
     check_crossing(ends, "Plane", eps, touching=True)
     check_crossing(ends - gap, "Plane2", eps, touching=True)
@@ -217,7 +217,7 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     Large rows are gathered with take: fancy indexing of rows is about 10x slower.
     """
     N = len(V)
-    s = signed(V, o, n) if s is None else s
+    s = signed_distance(V, o, n) if s is None else s
     h = gap / samples
     # per vertex, BLOCK at a time (in the cache): the nearest plane j, the vertices within
     # eps of it (snapped), the level u in plane units (exact on the planes; clipped so

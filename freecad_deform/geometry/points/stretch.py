@@ -3,8 +3,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import DeformError
-from ..mesh.cut import signed
-from ..sweep.planes import TOUCH, check_crossing, parallel_gap, unit_normal
+from ..sweep.planes import TOUCH, check_crossing, parallel_gap, signed_distance, unit_normal
 
 EVERY_POINT = "every point is on one side of it"
 
@@ -69,7 +68,7 @@ def stretch_points(points, origin, normal, distance, origin2=None, normal2=None,
     """
     pts = np.asarray(points, float).reshape(-1, 3)
     n = unit_normal(normal)
-    s = signed(pts, np.asarray(origin, float), n)
+    s = signed_distance(pts, origin, n)
     s[np.abs(s) <= TOUCH] = 0.0  # on the plane: stays with the near part, bit-identical
     check_crossing(s, "Plane", where=EVERY_POINT)
     if distance == 0:

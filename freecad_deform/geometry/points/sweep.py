@@ -6,10 +6,9 @@ by sampled configurations of the motion, as in the paper's point-cloud examples.
 import numpy as np
 
 from ..errors import DeformError
-from ..mesh.cut import BLOCK, add_rows, signed, tiled
 from ..mesh.sweep import move_by_fraction
 from ..sweep.motion import apply
-from ..sweep.planes import TOUCH, check_crossing, unit_normal
+from ..sweep.planes import TOUCH, check_crossing, signed_distance, unit_normal
 from .stretch import EVERY_POINT, MAX_FILL, section_band, spacing
 
 _PATH_SAMPLES = 2049   # samples of the centroid's trajectory to measure its length
@@ -30,7 +29,7 @@ def sweep_points(points, origin, normal, motion, step=None, prop="Angle"):
     """
     pts = np.asarray(points, float).reshape(-1, 3)
     n = unit_normal(normal)
-    s = signed(pts, np.asarray(origin, float), n)
+    s = signed_distance(pts, origin, n)
     check_crossing(s, "Plane", touching=True, where=EVERY_POINT)
     step = spacing(pts) if step is None else float(step)
     if not np.isfinite(step) or step <= 0:
@@ -61,19 +60,10 @@ def sweep_points(points, origin, normal, motion, step=None, prop="Angle"):
 
 
 def _moved(pts, far, matrix, extra):
-    """(N + extra, 3): the points, those in `far` moved by `matrix`, the rest bit-identical
-    (every point is transformed and the near ones copied back: cheaper than a boolean
-    gather of the far ones; BLOCK rows at a time, in the cache), then `extra` rows left
-    for the fill."""
+    """(N + extra, 3): the points, those in `far` moved by `matrix`, the rest bit-identical,
+    then `extra` rows left for the fill."""
     out = np.empty((len(pts) + extra, 3))
-    turn, shift = np.ascontiguousarray(matrix[:3, :3].T), tiled(matrix[:3, 3])
-    for i in range(0, len(pts), BLOCK):
-        p = pts[i:i + BLOCK]
-        head = out[i:i + len(p)]
-        np.matmul(p, turn, out=head)
-        add_rows(head, shift)
-        near = np.flatnonzero(~far[i:i + BLOCK])
-        head[near] = p.take(near, axis=0)
+    apply(matrix, pts, out=out[:len(pts)], where=far)
     return out
 
 
@@ -87,7 +77,7 @@ def map_points_between(points, origin, normal, gap, motion_of_s):
     if not np.isfinite(gap) or gap <= 0:
         raise DeformError("Plane2 must lie beyond Plane along its normal (on the moving side); "
                           "move Plane2.", "Plane2")
-    s = signed(pts, np.asarray(origin, float), n)
+    s = signed_distance(pts, origin, n)
     ends = np.array([s.min(), s.max()])       # all the plane tests need, without a copy of s
     check_crossing(ends, "Plane", touching=True, where=EVERY_POINT)
     check_crossing(ends - gap, "Plane2", touching=True, where=EVERY_POINT)
