@@ -323,8 +323,48 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     def point(e, jj):
         return N + label.take(raw(e, jj))
 
+    # the pieces, each triangle's in turn: most cross one plane, and theirs are written
+    # directly (_one_plane); the others' by zipping their two chains (_zipped)
+    one = n_ac == 1
+    t1, tz = np.flatnonzero(one), np.flatnonzero(~one)
+    count = np.where(one, 3, n_ab + n_bc + n_ac + 3)
+    offset = np.cumsum(count) - count
+    new = np.empty((int(count.sum()), 3), np.int64)
+    j = f_ac.take(t1)
+    lower = n_bc.take(t1) == 1                # b below the plane: its short point on b -> c
+    q = b.take(t1)                            # else on a -> b, or b itself when on the plane
+    ab = np.flatnonzero(n_ab.take(t1))
+    bc = np.flatnonzero(lower)
+    q[ab] = point(e_ab.take(t1.take(ab)), j.take(ab))
+    q[bc] = point(e_bc.take(t1.take(bc)), j.take(bc))
+    new[(offset.take(t1)[:, None] + np.arange(3)).reshape(-1)] = _one_plane(
+        W, a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j), lower,
+        ub.take(t1) == uc.take(t1), odd.take(t1))
+    if len(tz):
+        owner, i = _ranges(count.take(tz))
+        new[offset.take(tz).take(owner) + i] = _zipped(
+            W, point, *(x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc,
+                                              f_ac, n_ac, e_ab, e_bc, e_ac)))
+    new = without_flat(new)
+    kept = len(T) - len(rows)                 # the triangles crossing no plane, then the new
+    out = np.empty((kept + len(new), 3), np.int64)
+    keep = np.ones(len(T), bool)
+    keep[rows] = False
+    compress_rows(keep, T, out)
+    out[kept:] = new
+    return W, out, fractions
+
+
+def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab, e_bc,
+            e_ac):
+    """The pieces (E, 3) of triangles crossing planes, each triangle's (a, b, c: its corners
+    sorted by level ub, uc; odd: that order reverses it) in turn, flat ones included: its two
+    chains a -> c and a -> b -> c (f_*, n_*: the first plane and count each edge crosses;
+    e_*: the edge's number for point(e, plane), its cut point's vertex) zipped from a to c.
+    """
     # the events of each triangle (the vertices of its two chains after a) in level order,
     # ties put the long chain (a -> c) first
+    m = len(a)
     count = n_ab + n_bc + n_ac + 3
     offset = np.cumsum(count) - count
     E = int(count.sum())
@@ -384,14 +424,31 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     new[x + 1] = np.stack([Lp, Sj, Lj], 1)
     rev = np.flatnonzero(odd.take(tri))
     new[rev] = new.take(rev, axis=0)[:, ::-1]
-    new = without_flat(new)
-    kept = len(T) - len(rows)                 # the triangles crossing no plane, then the new
-    out = np.empty((kept + len(new), 3), np.int64)
-    keep = np.ones(len(T), bool)
-    keep[rows] = False
-    compress_rows(keep, T, out)
-    out[kept:] = new
-    return W, out, fractions
+    return new
+
+
+def _one_plane(W, a, b, c, q, p, lower, level, odd):
+    """The pieces (3k, 3) of k triangles crossing one plane, three each (some flat), as
+    _zipped makes them: corners a, b, c sorted by level; p the cut point on a -> c, q the
+    short chain's point on the plane (on b -> c when b is `lower` than it, else on a -> b,
+    or b itself); `level`: b and c on one level. Below the plane a lone a (or a and b),
+    above the rest; the quadrilateral is split along its shorter diagonal where _zipped
+    does (strict comparisons, the same lengths)."""
+    flip = _length(W, a, q) < _length(W, np.where(lower, b, a), p)
+    first = np.where(flip, a, p)
+    up = np.stack([first, np.where(flip, q, a), np.where(flip, p, q)], 1)   # upper: a alone
+    low = np.stack([a, b, np.where(flip, q, p)], 1)                         # lower: a and b
+    second = np.where(flip[:, None], np.stack([a, q, p], 1), np.stack([p, b, q], 1))
+    both = level & ~(_length(W, p, b) < _length(W, q, c))   # b and c tied: (p, q, c), (c, q, b)
+    mid = np.where(both[:, None], np.stack([p, q, c], 1), np.stack([p, q, b], 1))
+    last = np.where(both[:, None], np.stack([c, q, b], 1), np.stack([p, b, c], 1))
+    out = np.empty((len(a), 3, 3), np.int64)
+    out[:, 0] = np.where(lower[:, None], low, up)
+    out[:, 1] = np.where(lower[:, None], second, mid)
+    out[:, 2] = np.where(lower[:, None], np.stack([p, q, c], 1), last)
+    rev = np.flatnonzero(odd)
+    out[rev] = out.take(rev, axis=0)[:, :, ::-1]
+    return out.reshape(-1, 3)
 
 
 def _sorted_corners(Tr, u0, u1, u2):
