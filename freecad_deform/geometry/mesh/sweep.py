@@ -167,35 +167,30 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
 
 
 def move_by_fraction(points, f, motion_of_s, in_place=False):
-    """Point i moved by motion_of_s(f[i]); the points with f = 0 returned bit-identical
-    (in_place: the points array itself is written and returned).
+    """Point i moved by motion_of_s(f[i]), f in [0, 1]; the points with f = 0 returned
+    bit-identical (in_place: the points array itself is written and returned).
 
-    A motion with `moved` (twist_motion, bend_motion) moves the points at f = 1 by its one
-    end transform and turns those between directly, one Rodrigues rotation per point on
-    float arrays, BLOCK rows at a time (the temporaries of a block stay in the CPU cache:
-    twice as fast as whole-array passes on a million points); any other goes through its
-    (K, 4, 4) transforms, one per distinct fraction."""
+    A motion with `moved` (twist_motion, bend_motion) turns every point by its own angle,
+    those at f = 1 included (one rigid transform for them all, to rounding), BLOCK rows at a
+    time on columns: every row of a block is turned (no gather or scatter of the moving
+    ones) and written where f > 0, only the columns the motion changes (a turn about a
+    coordinate axis keeps that one); any other motion goes through its (K, 4, 4)
+    transforms, one per distinct fraction."""
     P = np.asarray(points, float)
+    out = P if in_place else P.copy()
     if not hasattr(motion_of_s, "moved"):
-        out = P if in_place else P.copy()
         move = np.flatnonzero(f > 0)
         fractions, which = np.unique(f.take(move), return_inverse=True)   # one per plane
         out[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)],
                                P.take(move, axis=0))
         return out
-    out = P if in_place else np.empty_like(P)
-    end = np.asarray(motion_of_s(1.0), float).reshape(4, 4)
-    turn, shift = np.ascontiguousarray(end[:3, :3].T), tiled(end[:3, 3])
     for i in range(0, len(P), BLOCK):
-        p, fb, o = P[i:i + BLOCK], f[i:i + BLOCK], out[i:i + BLOCK]
-        far = np.flatnonzero(fb >= 1)
-        mid = np.flatnonzero((fb > 0) & (fb < 1))
-        moved = add_rows(p.take(far, axis=0) @ turn, shift)
-        turned = motion_of_s.moved(p.take(mid, axis=0), fb.take(mid))
-        if o is not p:
-            o[...] = p
-        o[far] = moved
-        o[mid] = turned
+        fb, o = f[i:i + BLOCK], out[i:i + BLOCK]
+        moving = fb > 0
+        if moving.any():
+            for k, column in enumerate(motion_of_s.moved(P[i:i + BLOCK], fb)):
+                if column is not None:
+                    np.copyto(o[:, k], column, where=moving)
     return out
 
 
@@ -435,19 +430,22 @@ def _one_plane(W, a, b, c, q, p, lower, level, odd):
     above the rest; the quadrilateral is split along its shorter diagonal where _zipped
     does (strict comparisons, the same lengths)."""
     flip = _length(W, a, q) < _length(W, np.where(lower, b, a), p)
-    first = np.where(flip, a, p)
-    up = np.stack([first, np.where(flip, q, a), np.where(flip, p, q)], 1)   # upper: a alone
-    low = np.stack([a, b, np.where(flip, q, p)], 1)                         # lower: a and b
-    second = np.where(flip[:, None], np.stack([a, q, p], 1), np.stack([p, b, q], 1))
-    both = level & ~(_length(W, p, b) < _length(W, q, c))   # b and c tied: (p, q, c), (c, q, b)
-    mid = np.where(both[:, None], np.stack([p, q, c], 1), np.stack([p, q, b], 1))
-    last = np.where(both[:, None], np.stack([c, q, b], 1), np.stack([p, b, c], 1))
-    out = np.empty((len(a), 3, 3), np.int64)
-    out[:, 0] = np.where(lower[:, None], low, up)
-    out[:, 1] = np.where(lower[:, None], second, mid)
-    out[:, 2] = np.where(lower[:, None], np.stack([p, q, c], 1), last)
-    rev = np.flatnonzero(odd)
-    out[rev] = out.take(rev, axis=0)[:, :, ::-1]
+    both = np.zeros(len(a), bool)             # b and c tied: (p, q, c), (c, q, b) unless
+    tie = np.flatnonzero(level)               # the diagonal p-b is the shorter one
+    both[tie] = ~(_length(W, p.take(tie), b.take(tie)) < _length(W, q.take(tie), c.take(tie)))
+    # lower: (a, b, q | p), (a, q, p) | (p, b, q), (p, q, c); upper: (a, q, p) | (p, a, q),
+    # (p, q, b), (p, b, c) or when both (p, q, c), (c, q, b); written corner by corner
+    corners = [np.where(lower | flip, a, p), np.where(lower, b, np.where(flip, q, a)),
+               np.where(lower == flip, q, p),
+               np.where(lower & flip, a, p), np.where(lower & ~flip, b, q),
+               np.where(lower, np.where(flip, p, q), np.where(both, c, b)),
+               np.where(both, c, p), np.where(lower | both, q, b), np.where(both, b, c)]
+    out = np.empty((len(a), 9), np.int64)
+    for k in range(3):                        # reversed where the sorted order is odd
+        first, middle, last = corners[3 * k:3 * k + 3]
+        out[:, 3 * k] = np.where(odd, last, first)
+        out[:, 3 * k + 1] = middle
+        out[:, 3 * k + 2] = np.where(odd, first, last)
     return out.reshape(-1, 3)
 
 
@@ -522,27 +520,49 @@ def _check_gap(gap):
 def _vectorized(fn, point, direction, angle, shift=None):
     """Mark fn (fraction -> rotation(point, direction, fraction * angle) @
     translation(-fraction * shift)) as taking arrays, and give it `moved(points, fracs)`:
-    each point (K, 3) moved by fn(fracs[i]) without building its 4x4."""
-    c = np.asarray(point, float)
-    minus_c = tiled(-c)
-    K = skew(unit(direction, "Axis")).T
+    the columns (x, y, z) of the points (K, 3) each moved by fn(fracs[i]), without 4x4s:
+    Q = p - f shift, r = Q - point, Q + sin(phi) k x r + 2 sin^2(phi / 2) k x (k x r) on
+    float columns (contiguous 1-D passes; a (K, 3) array times a (K, 1) one is 3x slower),
+    the terms with a zero component of k or shift left out; a column the motion leaves
+    alone (the axis's, about a coordinate axis without shift) is None."""
+    c = np.asarray(point, float).reshape(3)
+    k = unit(direction, "Axis").reshape(3)
+    d = np.zeros(3) if shift is None else np.asarray(shift, float).reshape(3)
+    kept = [d[i] == 0 and k[i] != 0 and not k[(i + 1) % 3] and not k[(i + 2) % 3]
+            for i in range(3)]
+
+    def combine(terms):                   # sum of coefficient * column, zero terms left out
+        terms = [(a, x) for a, x in terms if a != 0]
+        if not terms:
+            return None
+        total = terms[0][1] * terms[0][0]
+        for a, x in terms[1:]:
+            total += x * a
+        return total
 
     def moved(points, fracs):
         f = np.asarray(fracs, float)
-        Q = np.ascontiguousarray(points, float)
-        if shift is not None:
-            Q = Q - f[:, None] * shift
-        r = np.add(Q.reshape(-1), minus_c[:Q.size]).reshape(-1, 3) if Q.size <= minus_c.size \
-            else Q - c                        # r from the axis point, flat (see tiled)
-        kr = r @ K                                             # k x r
-        kkr = kr @ K
+        P = np.asarray(points, float)
+        Q = [P[:, i] - f * d[i] if d[i] else P[:, i] for i in range(3)]
+        r = [Q[i] - c[i] for i in range(3)]
         phi = f * angle
+        sin = np.sin(phi)
         half = np.sin(phi / 2)
-        kr *= np.sin(phi)[:, None]            # Q + sin(phi) k x r + 2 sin^2(phi/2) k x (k x r),
-        kkr *= (2 * half * half)[:, None]     # in place (each fresh (K, 3) array costs)
-        kr += kkr
-        kr += Q
-        return kr
+        vers = 2 * half * half
+        kr = [combine([(k[1], r[2]), (-k[2], r[1])]), combine([(k[2], r[0]), (-k[0], r[2])]),
+              combine([(k[0], r[1]), (-k[1], r[0])])]                         # k x r
+        kk = combine([(k[i], r[i]) for i in range(3)])                       # k . r
+        out = []
+        for i in range(3):
+            if kept[i]:
+                out.append(None)
+                continue
+            kkr = -r[i] if kk is None or not k[i] else kk * k[i] - r[i]       # k x (k x r)
+            x = Q[i] + vers * kkr
+            if kr[i] is not None:
+                x += sin * kr[i]
+            out.append(x)
+        return out
 
     fn.vectorized = True
     fn.moved = moved
