@@ -10,8 +10,11 @@ through the map:
   edges;
 - every other face: a B-spline fitted to the mapped points in the face's own (u, v)
   parametrisation (geometry.nurbs.surface_fit), the face rebuilt from its own pcurves.
-The faces are sewn (with the cut faces left out) into one solid, voids kept. The largest
-deviation from the exact map is measured at points the fits did not use.
+The mapped faces are sewn to the pieces' faces at the joints, which go into the pieces in
+place of their own (the rest of the solid untouched); where that fails, or the far part is
+scaled or a piece has voids, all faces are sewn (with the cut faces left out) into one
+solid, voids kept. The largest deviation from the exact map is measured at points the fits
+did not use.
 """
 import numpy as np
 import Part
@@ -61,30 +64,27 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
     far_cut, caps1 = _shared_on_plane(far, between, o + gap * n, n)
     caps = caps0 + caps1
     inside = [f for s in between for f in s.Faces if not any(f.isSame(c) for c in caps)]
-    smap.check_fold(np.vstack([_face_points(f) for f in inside]),
-                    "Axis" if smap.profile == "Linear" else "Profile")
-    worst, mapped = 0.0, []
+    points = [_face_points(f) for f in inside]
+    smap.check_fold(np.vstack(points), "Axis" if smap.profile == "Linear" else "Profile")
+    mapped, worst = _mapped_faces(inside, smap, tol, points)
     fit_tol = min(tol, SEW_FIT)
-    for face in inside:
-        new, dev = map_face(face, smap, fit_tol)
-        if dev > tol:
-            raise DeformError(f"A face cannot be fitted to Tolerance ({tol:.3g} mm; it is off "
-                              f"by {dev:.3g} mm); raise Tolerance.", "Tolerance")
-        mapped.append(new)
-        worst = max(worst, dev)
-    moved, dev = _moved_faces([f for s in far for f in s.Faces
-                               if not any(f.isSame(c) for c in far_cut)], smap.end, fit_tol)
-    worst = max(worst, dev)
-    faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)] + mapped
-             + moved)
     end = smap.end
     joints = [(o, n), (end[:3, :3] @ (o + gap * n) + end[:3, 3],
                        unit(np.linalg.inv(end[:3, :3]).T @ n))]
-    # the region's own faces meet only within their edges' and vertices' tolerances (a
-    # real file's: up to 0.01 mm), and so do their images
-    slack = max([v.Tolerance for f in inside for v in f.Vertexes]
-                + [e.Tolerance for f in inside for e in f.Edges])
-    result = sewn_solid(faces, joints, worst, prop, slack)
+    result = None
+    if _rigid(end) and all(len(s.Shells) == 1 for s in near + between + far):
+        result = _joined_locally(near, cut, far, far_cut, mapped, end, joints, worst)
+    if result is None:
+        moved, dev = _moved_faces([f for s in far for f in s.Faces
+                                   if not any(f.isSame(c) for c in far_cut)], end, fit_tol)
+        worst = max(worst, dev)
+        faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)]
+                 + mapped + moved)
+        # the region's own faces meet only within their edges' and vertices' tolerances (a
+        # real file's: up to 0.01 mm), and so do their images
+        slack = max([v.Tolerance for f in inside for v in f.Vertexes]
+                    + [e.Tolerance for f in inside for e in f.Edges])
+        result = sewn_solid(faces, joints, worst, prop, slack)
     if len(result.Shells) != len(solid.Shells):
         # a void whose faces the planes cut by a hair (near a sphere's poles) came back in
         # pieces, and the volume with them (a void box twisted: +466 mm^3)
@@ -92,6 +92,90 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
                           f"shells became {len(result.Shells)}); move Plane or Plane2 a "
                           f"little, off the voids' poles and seams.", "Plane2")
     return result, worst
+
+
+def _joined_locally(near, cut, far, far_cut, mapped, end, joints, deviation):
+    """One solid of the near pieces, the far ones moved by the rigid `end` and the `mapped`
+    faces, without the `cut` and `far_cut` faces; None where this does not work (then all
+    faces are sewn). Only the mapped faces and the pieces' faces with a vertex on a joint
+    are sewn (those with many holes without the holes clear of it, put back after) and
+    merged across the joints (brep's join of split pieces does the same); they go into the
+    first piece in place of its faces there, with the other pieces' faces. The rest of the
+    solid keeps its topology, and only the faces sewing made get their tolerances settled:
+    sewing and settling a 1000-face solid cost more than the region's fits."""
+    dropped = [{k for k, f in enumerate(s.Faces) if any(f.isSame(c) for c in far_cut)}
+               for s in far]
+    moved = brep.transformed(far, end)  # faces in the same order: the cut ones by index
+    pieces = near + moved
+    if not pieces:
+        return None
+    keep = [f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)] + [
+        f for s, drop in zip(moved, dropped) for k, f in enumerate(s.Faces) if k not in drop]
+    on_surface = brep.on_planes(joints)
+    joint = set().union(*(brep.joint_vertices(s, on_surface) for s in pieces))
+
+    def meets(sub):
+        return any(v.hashCode() in joint for v in sub.Vertexes)
+
+    touched = [f for f in keep if meets(f)]
+    mine = {f.hashCode() for f in touched}
+    reduced, holes = brep._clear_holes_out(touched, meets)
+    sewn = Part.makeCompound(reduced + mapped)
+    try:
+        sewn.sewShape(max(4.0 * deviation, 1e-6))
+    except Part.OCCError:
+        return None
+    if len(sewn.Faces) != len(reduced) + len(mapped) or \
+            not brep._kept_orientation(reduced + mapped, sewn.Faces):
+        return None
+    joint |= brep.joint_vertices(sewn, on_surface)  # sewing made new vertices at the joints
+    merged = brep._unified(sewn.Faces, joint, on_surface)
+    if merged is None or not brep._holes_back(reduced, holes, merged, mine):
+        return None
+    host = pieces[0]
+    own = {f.hashCode() for f in host.Faces}
+    kept = {f.hashCode() for f in keep}
+    stays = {f.hashCode() for f in merged} & own
+    gone = [f for f in host.Faces if f.hashCode() not in stays and (
+        f.hashCode() not in kept or f.hashCode() in mine)]
+    new = [f for f in merged if f.hashCode() not in mine]
+    added = [f for f in merged if f.hashCode() not in own] + [
+        f for s in pieces[1:] for f in s.Faces if f.hashCode() in kept - mine - own]
+    if not gone or not added:
+        return None
+    try:
+        out = host.removeShape(gone[1:]) if len(gone) > 1 else host
+        out = out.replaceShape([(gone[0], Part.makeCompound(added))])
+    except Part.OCCError:
+        return None
+    if out.ShapeType != "Solid" or len(out.Faces) != len(keep) - len(touched) + len(merged) \
+            or not brep._valid_faces(new, meets) or not brep._shells_valid(out):
+        return None
+    untouched = kept - mine
+    for face in out.Faces:
+        if face.hashCode() not in untouched:
+            bspline.settle_tolerances(face)
+    return out
+
+
+def _rigid(matrix):
+    m = np.asarray(matrix, float)
+    return np.allclose(m[:3, :3].T @ m[:3, :3], np.eye(3), atol=1e-12)
+
+
+def _mapped_faces(faces, smap, tol, points=None, what="A face"):
+    """(the faces through the map, fitted to SEW_FIT or `tol` if tighter, the largest
+    deviation); a face whose fit misses `tol` is refused. `points`: each face's
+    _face_points, when the caller has them."""
+    out, worst = [], 0.0
+    for face, pts in zip(faces, points or [None] * len(faces)):
+        new, dev = map_face(face, smap, min(tol, SEW_FIT), pts)
+        if dev > tol:
+            raise DeformError(f"{what} cannot be fitted to Tolerance ({tol:.3g} mm; it is off "
+                              f"by {dev:.3g} mm); raise Tolerance.", "Tolerance")
+        out.append(new)
+        worst = max(worst, dev)
+    return out, worst
 
 
 def _shared_on_plane(a, b, origin, normal):
@@ -114,7 +198,7 @@ def _moved_faces(faces, matrix, tol):
     refit like the region's faces (OCCT's own affine transform of a shape approximates
     its circles to about 1e-3)."""
     m = np.asarray(matrix, float)
-    if np.allclose(m[:3, :3].T @ m[:3, :3], np.eye(3), atol=1e-12):
+    if _rigid(m):
         # moved as one compound: faces moved one by one lose their shared edges, and
         # sewing them again refits a real file's loose edges (areas off by 1e-6)
         return brep.transformed([Part.makeCompound(faces)], m)[0].Faces, 0.0
@@ -125,7 +209,7 @@ def _moved_faces(faces, matrix, tol):
 def _moved(shapes, matrix):
     """Shapes moved by the map's end transform: exact for a rigid one, else affine."""
     m = np.asarray(matrix, float)
-    if np.allclose(m[:3, :3].T @ m[:3, :3], np.eye(3), atol=1e-12):
+    if _rigid(m):
         return brep.transformed(shapes, m)
     import FreeCAD as App
     return [s.transformGeometry(App.Matrix(*m.ravel())) for s in shapes]
@@ -239,9 +323,10 @@ def _with_free_edges(faces):
 
 # --- faces -------------------------------------------------------------------------------
 
-def map_face(face, smap, tol):
-    """(mapped face, deviation measured between the fit samples)."""
-    pts = _face_points(face)
+def map_face(face, smap, tol, points=None):
+    """(mapped face, deviation measured between the fit samples); `points`: the face's
+    _face_points, when the caller has them."""
+    pts = _face_points(face) if points is None else points
     s = (pts - smap.origin) @ smap.normal / smap.gap
     if np.ptp(s) < 1e-12:  # the whole face at one position: moved by A(s)
         moved, dev = _moved_faces([face], smap.matrices([np.clip(s.mean(), 0.0, 1.0)])[0], tol)
@@ -322,9 +407,9 @@ def _on_surface(built, surface):
 def _face_points(face, count=5):
     """Points of the face: its vertices, and a grid of its surface over its parameters."""
     u0, u1, v0, v1 = face.ParameterRange
-    grid = [tuple(face.Surface.value(u, v)) for u in np.linspace(u0, u1, count)
-            for v in np.linspace(v0, v1, count)]
-    return np.array([tuple(v.Point) for v in face.Vertexes] + grid, float)
+    grid = surface_grid(face.Surface, np.linspace(u0, u1, count), np.linspace(v0, v1, count))
+    return np.vstack([np.array([tuple(v.Point) for v in face.Vertexes], float).reshape(-1, 3),
+                      grid.reshape(-1, 3)])
 
 
 def surface_grid(surface, U, V):
@@ -432,9 +517,8 @@ def _fitted(face, point_map, tol):
         pts = surface_grid(surface, U, V)
         return point_map(pts.reshape(-1, 3)).reshape(pts.shape)
 
-    ub, vb = _breaks(surface, u0, u1, 0), _breaks(surface, v0, v1, 1)
     fit = surface_fit.fit_surface(mapped, (u0, u1), (v0, v1), tol, degree=DEGREE,
-                                  breaks=(ub, vb))
+                                  spans=(2, 2), breaks=_breaks(surface, (u0, u1, v0, v1)))
     new = bspline_surface(fit)
     if bspline.natural(face):  # all of its surface's rectangle: OCCT bounds it itself
         built = Part.Face(new)     # (seams and degenerated edges made right)
@@ -448,15 +532,22 @@ def _fitted(face, point_map, tol):
     return built, fit.deviation
 
 
-def _breaks(surface, a, b, direction, most=64):
-    """Initial fit breakpoints: the B-spline's own knots inside [a, b] (so its lower
-    continuity there is kept), else four spans."""
-    if surface.TypeId == "Part::GeomBSplineSurface":
-        knots = np.array(surface.getUKnots() if direction == 0 else surface.getVKnots())
+def _breaks(surface, bounds, most=64):
+    """Initial fit breakpoints (u, v) of a B-spline: its own knots inside the bounds (so its
+    lower continuity there is kept); None for another surface, whose fit starts from two
+    spans each way and is refined where it must be. OCCT's Volume of a fitted face costs
+    about the square of its spans (a twisted plane: 3.3 ms with 2 x 2 spans, 12.6 ms with
+    4 x 4), and the fit needs few: the error falls as h^6."""
+    if surface.TypeId != "Part::GeomBSplineSurface":
+        return None
+    out = []
+    for (a, b), knots in zip((bounds[:2], bounds[2:]), (surface.getUKnots(),
+                                                       surface.getVKnots())):
+        knots = np.array(knots)
         inner = knots[(knots > a + 1e-12 * (b - a)) & (knots < b - 1e-12 * (b - a))]
-        if len(inner) < most:
-            return np.concatenate([[a], inner, [b]])
-    return np.linspace(a, b, 5)
+        out.append(np.concatenate([[a], inner, [b]]) if len(inner) < most
+                   else np.linspace(a, b, 5))
+    return tuple(out)
 
 
 def bspline_surface(fit):
@@ -607,15 +698,14 @@ def map_loose(parts, smap, tol):
         if not part.Faces:
             out += _loose([part], smap, tol)
             continue
-        faces = []
-        for face in part.Faces:
-            new, dev = map_face(face, smap, min(tol, SEW_FIT))
-            if dev > tol:
-                raise DeformError(f"A loose face cannot be fitted to Tolerance ({tol:.3g} mm; "
-                                  f"it is off by {dev:.3g} mm); raise Tolerance.", "Tolerance")
-            faces.append(new)
-            worst = max(worst, dev)
-        out += faces if len(faces) == 1 else _sewn(faces, max(4.0 * worst, 1e-6)).Shells or faces
+        faces, dev = _mapped_faces(part.Faces, smap, tol, what="A loose face")
+        worst = max(worst, dev)
+        if len(faces) == 1:
+            out += faces
+            continue
+        # sewn again where they met: shells, and the faces sewing leaves in none
+        shells, free = brep.shells_of(_sewn(faces, max(4.0 * dev, 1e-6)))
+        out += shells + free
     return out, worst
 
 

@@ -1,0 +1,111 @@
+"""The join of a region taken through a space map (shapes.mapped): loose faces sewn again
+without losing any, and a solid whose mapped faces go into the pieces locally.
+
+Oracles: areas and volumes in closed form (a Linear stretch scales lengths along the normal
+by (gap + distance) / gap; a twist keeps volume and turns each section), OCCT's isValid(),
+its BOP check (BOPAlgo_ArgumentAnalyzer through Shape.check(True)), Shape.slice.
+"""
+import unittest
+
+from . import fc
+
+import FreeCAD as App  # noqa: E402
+import numpy as np  # noqa: E402
+import Part  # noqa: E402
+
+import freecad_deform as fd  # noqa: E402
+from freecad_deform.geometry.sweep import space_map  # noqa: E402
+from freecad_deform.shapes import mapped  # noqa: E402
+
+V = App.Vector
+
+
+def stepped_bar(steps=6):
+    """A bar along z with `steps` square teeth on one side, each 2 mm high: its section
+    changes between any two planes 2 mm apart, so a twist goes through the space map."""
+    bar = Part.makeBox(10, 10, 40)
+    for k in range(steps):
+        bar = bar.fuse(Part.makeBox(3, 4, 2, V(10, 3, 4 + 5 * k)))
+    return bar.removeSplitter().Solids[0]
+
+
+class LooseFacesThroughTheMap(unittest.TestCase):
+    def test_faces_sewing_leaves_outside_a_shell_are_kept(self):
+        """A loose shell (as an open shell of a STEP file may be) of two faces that meet
+        and one apart: sewing makes one shell of the two; the third must stay beside it
+        (it was dropped whenever a shell formed)."""
+        shell = stepped_bar(1).Shells[0]
+
+        def at(face, x=None, y=None):
+            c = face.CenterOfMass
+            return (x is None or abs(c.x - x) < 1e-9) and (y is None or abs(c.y - y) < 1e-9)
+
+        keep = [f for f in shell.Faces if at(f, x=0) or at(f, y=0) or at(f, x=13)]
+        self.assertEqual(len(keep), 3)
+        part = shell.removeShape([f for f in shell.Faces if not any(f.isSame(k) for k in keep)])
+        # the region z = 0..40 stretched to 60: every face is upright, its area grows 1.5 x
+        smap = space_map.stretch_map(np.zeros(3), np.array([0, 0, 1.0]), 40.0, 20.0)
+        out, deviation = mapped.map_loose([part], smap, 1e-3)
+        result = Part.makeCompound(out)
+        self.assertEqual(len(result.Faces), 3)
+        self.assertEqual(len(result.Shells), 1)
+        self.assertAlmostEqual(result.Area, 1.5 * (400 + 400 + 8), places=6)
+        self.assertLess(deviation, 1e-3)
+        self.assertTrue(all(f.isValid() for f in result.Faces))
+
+
+class LocalJoin(unittest.TestCase):
+    def twisted(self, solid, z0, z1, angle):
+        doc = fc.new_document("MappedJoin")
+        self.addCleanup(App.closeDocument, doc.Name)
+        base = doc.addObject("Part::Feature", "Base")
+        base.Shape = solid
+        doc.recompute()
+        obj = fd.make_twist(base, (V(0, 0, z0), V(0, 0, 1)), (V(0, 0, z1), V(0, 0, 1)), angle,
+                            axis=(V(5, 5, 0), V(0, 0, 1)))
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        return obj
+
+    def test_twist_of_a_region_that_changes_its_outline(self):
+        solid = stepped_bar()
+        z0, z1, angle = 7.5, 22.5, 30.0
+        obj = self.twisted(solid, z0, z1, angle)
+        result = obj.Shape
+        self.assertTrue(result.isValid())
+        self.assertEqual(len(result.Solids), 1)
+        self.assertEqual(len(result.Shells), 1)
+        result.check(True)  # raises on any BOP check failure (self-intersection included)
+        # a twist keeps volume; VolumeChange is the result's volume less the Base's
+        self.assertLess(abs(result.Volume - solid.Volume), 1e-7 * solid.Volume)
+        self.assertLess(abs(obj.VolumeChange - (result.Volume - solid.Volume)), 1e-9)
+        # faces: the Base's, those the planes cut counted twice (four sides of the bar at
+        # each plane; the teeth lie clear of the planes)
+        cut = sum(1 for f in solid.Faces for z in (z0, z1)
+                  if f.BoundBox.ZMin < z - 1e-9 and f.BoundBox.ZMax > z + 1e-9)
+        self.assertEqual(cut, 8)
+        self.assertEqual(len(result.Faces), len(solid.Faces) + cut)
+        # each section turned by its share of the angle, area kept
+        for z in (8.0, 15.0, 22.0):
+            want = Part.makeFace(solid.slice(V(0, 0, 1), z), "Part::FaceMakerBullseye")
+            got = Part.makeFace(result.slice(V(0, 0, 1), z), "Part::FaceMakerBullseye")
+            turn = App.Rotation(V(0, 0, 1), angle * (z - z0) / (z1 - z0))
+            centre = turn.multVec(want.CenterOfMass - V(5, 5, z)) + V(5, 5, z)
+            self.assertLess(abs(got.Area / want.Area - 1), 1e-7, z)
+            self.assertLess((got.CenterOfMass - centre).Length, 1e-6, z)
+        # faces away from the region kept as they were (the far ones turned by the angle)
+        turn = App.Rotation(V(0, 0, 1), angle)
+        for face in solid.Faces:
+            box = face.BoundBox
+            if box.ZMax < z0 - 1e-9:
+                where = face.CenterOfMass
+            elif box.ZMin > z1 + 1e-9:
+                where = turn.multVec(face.CenterOfMass - V(5, 5, 0)) + V(5, 5, 0)
+            else:
+                continue
+            kept = min(result.Faces, key=lambda g: (g.CenterOfMass - where).Length)
+            self.assertLess((kept.CenterOfMass - where).Length, 1e-9)
+            self.assertLess(abs(kept.Area / face.Area - 1), 1e-12)
+
+
+if __name__ == "__main__":
+    unittest.main()
