@@ -1,20 +1,19 @@
-"""Passes over large arrays BLOCK rows at a time, shared by the mesh and point kernels: the
-temporaries of a block stay in the CPU cache (about twice as fast as whole-array passes on a
-million rows)."""
+"""Passes over large arrays, shared by the mesh and point kernels: most go BLOCK rows at a
+time, so the temporaries of a block stay in the CPU cache (about twice as fast as
+whole-array passes on a million rows)."""
 import numpy as np
 
 BLOCK = 16384   # rows a blocked loop takes at a time
 
 
 def compress_rows(mask, T, out):
-    """T's rows where `mask`, written in order into `out`, BLOCK rows at a time (in the
-    cache: np.compress with out= is 5x slower, a gather by indices 2x); returns how many."""
-    at = 0
-    for i in range(0, len(T), BLOCK):
-        block = np.compress(mask[i:i + BLOCK], T[i:i + BLOCK], axis=0)
-        out[at:at + len(block)] = block
-        at += len(block)
-    return at
+    """T's rows where `mask`, written in order into `out`; returns how many. One gather of
+    the rows by index straight into `out` (mode "clip": "raise" copies `out` first): 1.4
+    to 1.6x faster than np.compress block by block, which was faster than np.compress
+    whole or with out=."""
+    rows = np.flatnonzero(mask)
+    T.take(rows, axis=0, out=out[:len(rows)], mode="clip")
+    return len(rows)
 
 
 def tiled(vector):
