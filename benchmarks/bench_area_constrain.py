@@ -170,7 +170,7 @@ def issue_rows(timer, quick):
 
         def run():
             if cold:
-                bspline_area._CELL_RULES.clear()
+                bspline_area._FIXED_CELLS.clear()
             out["o"] = op.face(shape, "Face1", target_area=target, poles=poles)[1]
         t, n = timer.median(run, 1 if cold else None)
         o = out["o"]

@@ -254,13 +254,15 @@ def test_the_large_solver_reaches_the_target_with_the_least_change(monkeypatch, 
 
 def test_a_large_face_s_fixed_cells_error_does_not_refuse_a_local_change(monkeypatch):
     """On a face of more than LARGE cells the cells no listed pole touches are summed once
-    by a fixed pair of rules; their error (here made 1e-6 of the area by coarse rules)
+    by a fixed pair of rules; their error (here made 1e-6 of the area by coarse rules and
+    a loose FIXED_RTOL)
     stays the same before and after, so it is no sign of a fold: the solve is not refused,
     the change of area (the test's own quadrature, before and after) is the one asked,
     and AreaError still reports the fixed cells' error."""
     from freecad_deform.geometry.nurbs import bspline_area
     monkeypatch.setattr(bspline_area, "LARGE", 50)
     monkeypatch.setattr(bspline_area, "FIXED_RULES", (2, 3))
+    monkeypatch.setattr(bspline_area, "FIXED_RTOL", 1e-3)   # no cell integrated further
     s = canopy(14, size=(100.0, 100.0))
     movable = [idx(s, i, j) for i in (7, 8) for j in (7, 8)]
     q = ac.area_quadrature(s, movable)
@@ -269,3 +271,29 @@ def test_a_large_face_s_fixed_cells_error_does_not_refuse_a_local_change(monkeyp
     sol = ac.constrain_surface_area(s, movable, q.area(s.poles) + change, "Normal", q=q)
     assert own_area(s, sol.poles) - own_area(s) == pytest.approx(change, rel=1e-10)
     assert sol.error >= q.error - q.active_error
+
+
+def test_a_large_face_s_cells_sum_to_its_area_within_fixed_rtol():
+    """fixed_cells (every cell of a large face: cheap rules, then the cells where they
+    differ most adaptively) sums to the area by the test's own rule (scipy's basis, 60
+    and 80 Gauss nodes per span, agreeing to 1e-14) within FIXED_RTOL, and its error
+    estimate bounds the actual error, on a rough face (random heights) where the test's
+    own 8-node rule is off by 3e-6 and a cell's 6- and 8-node areas agree to 1e-8 though
+    both are 9e-6 off (a pair of rules alone passed it). The cells' rule itself
+    (tensor_cell_areas, blocks of spans) at 40 nodes equals the test's 40-node area."""
+    from freecad_deform.geometry.nurbs import bspline_area
+    s = canopy(30, size=(100.0, 100.0))
+    P = s.poles.copy()
+    P[..., 2] = 40 * np.random.default_rng(0).random((30, 30))
+    s = s._replace(poles=P)
+    exact = own_area(s, nodes=80)
+    assert own_area(s, nodes=60) == pytest.approx(exact, rel=1e-14)
+    assert abs(own_area(s, nodes=8) - exact) > 1e-6 * exact
+    bspline_area._FIXED_CELLS.clear()
+    value, error = bspline_area.fixed_cells(s)
+    assert value.shape == (27 * 27,)
+    assert abs(value.sum() - exact) <= bspline_area.FIXED_RTOL * exact
+    assert abs(value.sum() - exact) <= error.sum() + 1e-13 * exact
+    assert error.sum() <= bspline_area.FIXED_RTOL * exact
+    assert bspline_area.tensor_cell_areas(s, 40).sum() == pytest.approx(
+        own_area(s, nodes=40), rel=1e-13)

@@ -562,7 +562,7 @@ def constrain_surface_area(surface, movable, target, dof="Normal", method="Lagra
     for _ in range(MAX_ITERATIONS):
         sol = constrain_area(q, surface.poles, movable, target, dof, method, sol)
         iterations += sol.iterations
-        q, finer = (grid_refined if grid else refined)(q, sol.poles)
+        q, finer = (grid_refined if grid else refined)(q, sol.poles, sol.area)
         # only the cells the poles change can fold; the others' error (the fixed rules
         # of a large face: 1.5e-8 of a terrain's area) is the same before and after
         if not finer and q.active_error > FOLDED * sol.area:

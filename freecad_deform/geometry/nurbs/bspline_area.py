@@ -26,8 +26,9 @@ RULES = np.array([10, 15, 20, 30, 40])   # Gauss-Legendre nodes per direction, i
 MAX_DEPTH = 48          # halvings of a knot-span cell, at most
 MAX_RECTS = 4000        # rectangles, at most (|S_u x S_v| = 0 along a curve: a fold)
 RTOL = 1e-13            # the area's relative tolerance
-LARGE = 20000           # cells beyond which the fixed cells get one pair of rules
-FIXED_RULES = (16, 20)
+LARGE = 20000           # cells beyond which the fixed cells are integrated as below
+FIXED_RULES = (5, 6, 8)  # the fixed cells of a large face: cheap rules on every cell,
+FIXED_RTOL = 1e-11       # then the cells of the largest differences adaptively, to this
 CHUNK = 1024            # cells evaluated at once (bounds memory on large surfaces)
 
 
@@ -505,9 +506,9 @@ def quadrature(surface, movable=None, rtol=RTOL):
     cells are refined until two rules agree within their share of the tolerance (by
     parameter area, or by the cell's own area where that is larger). `movable`: the flat
     pole indices that may change (None: all); the other cells are summed once into a
-    fixed part. On a face of more than LARGE cells (a terrain) those fixed cells get one
-    pair of rules instead (FIXED_RULES: the finer kept, the difference as its error), so
-    the set-up stays in seconds per 10,000 cells."""
+    fixed part. On a face of more than LARGE cells (a terrain) those fixed cells come from
+    `fixed_cells` instead (every cell of the face once, kept per face), so the set-up stays
+    in about a second for 100,000 cells."""
     s = surface
     start = cells(s)
     size = (s.uknots[-s.udegree - 1] - s.uknots[s.udegree]) * \
@@ -515,8 +516,8 @@ def quadrature(surface, movable=None, rtol=RTOL):
     fixed = None
     if movable is not None and len(start.u0) > LARGE:
         active = touched(start, s, movable)
-        coarse, fine = (x[~active] for x in _cell_rules(s, start))
-        fixed = (float(np.sum(fine)), float(np.sum(np.abs(fine - coarse))))
+        value, error = fixed_cells(s)
+        fixed = (float(np.sum(value[~active])), float(np.sum(error[~active])))
         start = start.take(active)
     estimate = rect_areas(start, s, s.poles, RULES[0])
     total = float(np.sum(estimate)) + (fixed[0] if fixed else 0.0)
@@ -525,23 +526,84 @@ def quadrature(surface, movable=None, rtol=RTOL):
     return _build(s, rects, values, errors, per_area, movable, fixed)
 
 
-_CELL_RULES = {}        # the last few faces' cell areas by FIXED_RULES, by their arrays
+_FIXED_CELLS = {}       # the last few faces' fixed_cells, by their arrays
 
 
-def _cell_rules(surface, every):
-    """The area of every cell (`every`: cells(surface)) by the two FIXED_RULES, kept for
-    the last few surfaces: a large face's cells that no listed pole touches are summed
-    from them, so a recompute with other Poles or another target (the task panel's
-    preview) does not integrate 100,000 cells again."""
+def fixed_cells(surface):
+    """(area, estimated error) of every knot-span cell of a large face (in `cells` order),
+    to FIXED_RTOL of the face's area in sum: the FIXED_RULES on every cell (the finest
+    kept, the largest difference of successive ones its error: two rules can agree by
+    chance where both are far off, three seldom), then the cells of the largest
+    differences (a terrain's steep cells: 3 % of them hold 99.9 % of the differences)
+    integrated by `adapt` until the sum of the others' errors and of theirs is within
+    FIXED_RTOL.
+    Kept for the last two faces, so a recompute with other Poles or another target (the
+    task panel's preview) does not integrate every cell again."""
     s = surface
     key = hashlib.sha1(b"".join(np.ascontiguousarray(x, float).tobytes() for x in
                                 (s.poles, s.weights, s.uknots, s.vknots)) +
-                       bytes([s.udegree, s.vdegree, *FIXED_RULES])).hexdigest()
-    if key not in _CELL_RULES:
-        if len(_CELL_RULES) >= 2:
-            _CELL_RULES.pop(next(iter(_CELL_RULES)))
-        _CELL_RULES[key] = tuple(rect_areas(every, s, s.poles, n) for n in FIXED_RULES)
-    return _CELL_RULES[key]
+                       bytes([s.udegree, s.vdegree, *FIXED_RULES]) +
+                       np.float64(FIXED_RTOL).tobytes()).hexdigest()
+    if key in _FIXED_CELLS:
+        return _FIXED_CELLS[key]
+    every = cells(s)
+    if np.all(s.weights == 1):
+        areas = [tensor_cell_areas(s, n).ravel() for n in FIXED_RULES]
+    else:
+        areas = [rect_areas(every, s, s.poles, n) for n in FIXED_RULES]
+    value = areas[-1]
+    error = np.max([np.abs(b - a) for a, b in zip(areas, areas[1:])], axis=0)
+    budget = FIXED_RTOL * float(np.sum(np.abs(value)))
+    order = np.argsort(error)
+    kept = order[:np.searchsorted(np.cumsum(error[order]), budget / 2, side="right")]
+    flagged = np.ones(len(error), bool)
+    flagged[kept] = False
+    if flagged.any():
+        start = every.take(flagged)
+        area = float(np.sum((start.u1 - start.u0) * (start.v1 - start.v0)))
+        rects, values, errors = adapt(start, s, s.poles, _tolerance(budget / 2 / area, RTOL),
+                                      MAX_RECTS + 4 * len(start.u0))
+        _, su = spans(s.uknots, s.udegree)
+        _, sv = spans(s.vknots, s.vdegree)
+        cell = np.searchsorted(su, rects.su) * len(sv) + np.searchsorted(sv, rects.sv)
+        value[flagged] = error[flagged] = 0.0
+        value += np.bincount(cell, values, len(value))
+        error += np.bincount(cell, errors, len(value))
+    value.flags.writeable = error.flags.writeable = False
+    if len(_FIXED_CELLS) >= 2:
+        _FIXED_CELLS.pop(next(iter(_FIXED_CELLS)))
+    _FIXED_CELLS[key] = value, error
+    return value, error
+
+
+def tensor_cell_areas(surface, n, block=8):
+    """The area of every knot-span cell (cells_u, cells_v) of a non-rational surface by the
+    n x n Gauss-Legendre rule: the basis along v applied to all poles once (sparse), then
+    along u for `block` spans at a time as dense products (BLAS), the integrand weighted
+    and summed per cell at once (several times faster than `rect_areas` on a terrain)."""
+    s = surface
+    Bu, dBu, wu = _design(s.uknots, s.udegree, n)
+    Bv, dBv, wv = _design(s.vknots, s.vdegree, n)
+    nu, nv = s.weights.shape
+    cu, cv = len(wu) // n, len(wv) // n
+    P = np.asarray(s.poles, float).reshape(nu, nv, 3)
+    # Y[c], dY[c] (nu, Nv): coordinate c along the v nodes of every pole row
+    Y, dY = ([np.ascontiguousarray((B @ P[:, :, c].T).T) for c in range(3)]
+             for B in (Bv, dBv))
+    wv = wv.reshape(cv, n)
+    out = np.empty((cu, cv))
+    for r in range(0, cu, block):
+        rows = slice(r * n, min(r + block, cu) * n)
+        U, dU = Bu[rows], dBu[rows]
+        used = np.r_[U.indices, dU.indices]
+        c0, c1 = used.min(), used.max() + 1
+        U, dU = U[:, c0:c1].toarray(), dU[:, c0:c1].toarray()
+        Su = [dU @ y[c0:c1] for y in Y]
+        Sv = [U @ y[c0:c1] for y in dY]
+        f = _norm(_cross(Su, Sv)).reshape(-1, cv, n)
+        out[r:r + block] = (wu[rows, None] * np.einsum("rcj,cj->rc", f, wv)).reshape(
+            -1, n, cv).sum(1)
+    return out
 
 
 def _tolerance(per_area, rtol):
@@ -562,14 +624,15 @@ def _build(surface, rects, values, errors, per_area, movable, fixed=None):
                       per_area, movable)
 
 
-def refined(q, poles, rtol=RTOL):
+def refined(q, poles, area=None, rtol=RTOL):
     """(Quadrature for the surface with `poles`, whether it needed more nodes than q and
     its area there differs from q's by more than rtol): q's rectangles checked with the
     new poles (only movable ones changed), given more nodes or split further where the
     rules disagree; the error estimate is the new one. Each rectangle is checked afresh
     (its kept value belongs to the old poles), from its rule. (More nodes alone happen
     at the rounding floor: a terrain's cells, 700 m^2 to 1e-13, flipped one by one and
-    the solve restarted 30 times.)"""
+    the solve restarted 30 times.) `area`: q's area at `poles` when known (the solve's);
+    the new one is the sum the check kept, not evaluated again."""
     s = q.surface._replace(poles=np.asarray(poles, float).reshape(q.surface.poles.shape))
     n = len(q.rects.u0)
     start = q.rects._replace(value=np.full(n, np.nan), last=np.full(n, np.inf))
@@ -578,8 +641,9 @@ def refined(q, poles, rtol=RTOL):
     new.active = q.active
     if new.count == q.count:
         return new, False
-    area = new.area(s.poles)
-    return new, abs(area - q.area(s.poles)) > rtol * abs(area)
+    now = new.fixed + float(np.sum(values))
+    before = q.area(s.poles) if area is None else area
+    return new, abs(now - before) > rtol * abs(now)
 
 
 # --- large non-rational surfaces (a terrain): one tensor rule, the basis as sparse matrices
@@ -713,6 +777,7 @@ class GridQuadrature:
         self.grid = Grid(s, self.GRID[0], ~self.flagged)
         self.light = Grid(s, self.LIGHT)
         self.error = float(np.sum(np.abs(fine - coarse)[~self.flagged]))
+        self.value = float(np.sum(coarse[~self.flagged]))     # the area at s.poles
         self.part, self.count = None, int((~self.flagged).sum()) * self.GRID[0] ** 2
         if self.flagged.any():
             start = every.take(self.flagged.ravel())
@@ -721,6 +786,7 @@ class GridQuadrature:
             self.part = Quadrature(s, rects, (0.0, 0.0), float(np.sum(errors)), per_area,
                                    None)
             self.error += self.part.error
+            self.value += float(np.sum(values))
             self.count += self.part.count
         self.active_error = self.error
 
@@ -747,11 +813,12 @@ def grid_quadrature(surface, rtol=1e-12):
     return GridQuadrature(s, rtol * Grid(s, GridQuadrature.GRID[0]).area(s.poles) / size, rtol)
 
 
-def grid_refined(q, poles):
+def grid_refined(q, poles, area=None):
     """(GridQuadrature for the surface with `poles`, whether its area there differs from
     q's by more than the tolerance): every cell checked again with the new poles; the
-    cells flagged before stay flagged."""
+    cells flagged before stay flagged. `area`: q's area at `poles` when known; the new
+    one is the sum the check computed, not evaluated again."""
     s = q.surface._replace(poles=np.asarray(poles, float).reshape(q.surface.poles.shape))
     new = GridQuadrature(s, q.per_area, q.rtol, q.flagged)
-    area = new.area(s.poles)
-    return new, abs(area - q.area(s.poles)) > q.rtol * abs(area)
+    before = q.area(s.poles) if area is None else area
+    return new, abs(new.value - before) > q.rtol * abs(new.value)
