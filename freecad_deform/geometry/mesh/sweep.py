@@ -520,47 +520,43 @@ def _check_gap(gap):
 def _vectorized(fn, point, direction, angle, shift=None):
     """Mark fn (fraction -> rotation(point, direction, fraction * angle) @
     translation(-fraction * shift)) as taking arrays, and give it `moved(points, fracs)`:
-    the columns (x, y, z) of the points (K, 3) each moved by fn(fracs[i]), without 4x4s:
-    Q = p - f shift, r = Q - point, Q + sin(phi) k x r + 2 sin^2(phi / 2) k x (k x r) on
-    float columns (contiguous 1-D passes; a (K, 3) array times a (K, 1) one is 3x slower),
-    the terms with a zero component of k or shift left out; a column the motion leaves
-    alone (the axis's, about a coordinate axis without shift) is None."""
+    the columns (x, y, z) of the points (K, 3) each moved by fn(fracs[i]), without 4x4s.
+
+    With Q = p - f shift and r = Q - point, column i is Q_i + sum_j (sin(phi) A_ij +
+    (1 - cos(phi)) B_ij) r_j, A = [k]x and B = [k]x^2 = k k^T - I (Rodrigues), on float
+    columns (contiguous 1-D passes; a (K, 3) array times a (K, 1) one is 3x slower), the
+    zero terms left out: about a coordinate axis, two terms per column. A column the
+    motion leaves alone (the axis's, about a coordinate axis without shift) is None."""
     c = np.asarray(point, float).reshape(3)
     k = unit(direction, "Axis").reshape(3)
     d = np.zeros(3) if shift is None else np.asarray(shift, float).reshape(3)
-    kept = [d[i] == 0 and k[i] != 0 and not k[(i + 1) % 3] and not k[(i + 2) % 3]
-            for i in range(3)]
-
-    def combine(terms):                   # sum of coefficient * column, zero terms left out
-        terms = [(a, x) for a, x in terms if a != 0]
-        if not terms:
-            return None
-        total = terms[0][1] * terms[0][0]
-        for a, x in terms[1:]:
-            total += x * a
-        return total
+    A, B = skew(k), np.outer(k, k) - np.eye(3)
+    terms = [[(j, A[i, j], B[i, j]) for j in range(3) if A[i, j] or B[i, j]] for i in range(3)]
+    used = sorted({j for row in terms for j, _, _ in row})
+    kept = [not terms[i] and not d[i] for i in range(3)]
 
     def moved(points, fracs):
         f = np.asarray(fracs, float)
         P = np.asarray(points, float)
         Q = [P[:, i] - f * d[i] if d[i] else P[:, i] for i in range(3)]
-        r = [Q[i] - c[i] for i in range(3)]
+        r = {j: Q[j] - c[j] for j in used}
         phi = f * angle
-        sin = np.sin(phi)
-        half = np.sin(phi / 2)
-        vers = 2 * half * half
-        kr = [combine([(k[1], r[2]), (-k[2], r[1])]), combine([(k[2], r[0]), (-k[0], r[2])]),
-              combine([(k[0], r[1]), (-k[1], r[0])])]                         # k x r
-        kk = combine([(k[i], r[i]) for i in range(3)])                       # k . r
+        sin, vers = np.sin(phi), 1.0 - np.cos(phi)
+        scaled = {}                       # a * sin, a * vers: each computed once, +-1 free
+
+        def times(a, base, name):
+            if (a, name) not in scaled:
+                scaled[a, name] = base if a == 1 else -base if a == -1 else a * base
+            return scaled[a, name]
+
         out = []
         for i in range(3):
-            if kept[i]:
-                out.append(None)
-                continue
-            kkr = -r[i] if kk is None or not k[i] else kk * k[i] - r[i]       # k x (k x r)
-            x = Q[i] + vers * kkr
-            if kr[i] is not None:
-                x += sin * kr[i]
+            x = None if kept[i] else np.array(Q[i])
+            for j, a, b in terms[i]:
+                if a:
+                    x += times(a, sin, "sin") * r[j]
+                if b:
+                    x += times(b, vers, "vers") * r[j]
             out.append(x)
         return out
 
