@@ -122,3 +122,65 @@ def test_non_finite_vertex_is_refused_naming_base():
     with pytest.raises(DeformError) as err:
         twisted(V0, T0, np.array([0, 0, -0.5]), np.array([0, 0, 1.0]), 1.0, 1.0, 8)
     assert err.value.prop == "Base" and "Base" in str(err.value)
+
+
+def loose_triangles():
+    """Separate triangles (levels s of their corners a, b, c along x, planes at s = 0..4),
+    each crossing none, one or several sample planes in every way the cut tells apart:
+    a alone below the plane, c alone above it, b on it, b and c on one level (a and b
+    too), two planes, and one through all five (so both end planes cross the mesh). Each
+    lies in its own tilted plane, away from the others."""
+    levels = [(1.2, 1.8, 1.5), (2.5, 3.4, 3.6), (0.2, 0.6, 1.5), (1.5, 2.0, 2.5),
+              (0.5, 1.5, 1.5), (0.4, 0.4, 1.7), (0.5, 2.5, 1.7), (-0.5, 4.5, 2.2),
+              (3.6, 2.5, 3.4), (2.0, 2.5, 1.5)]
+    V0 = []
+    for i, (x0, x1, x2) in enumerate(levels):
+        y, z = 3.0 * i, 1.0 + 0.3 * i
+        V0 += [[x0, y, z], [x1, y + 1.0, z + 0.2 * x1], [x2, y + 0.3, z + 1.1 - 0.1 * x2]]
+    return np.array(V0), np.arange(3 * len(levels)).reshape(-1, 3)
+
+
+def triangle_normals(V, T):
+    return np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
+
+
+@pytest.mark.parametrize("flipped", [False, True])
+def test_triangles_crossing_none_one_or_several_planes(flipped):
+    """Each piece lies in one slab (no plane strictly between its corners' levels), in the
+    plane of one input triangle and facing its way; the pieces of a triangle add up to
+    its area, and their count is 2k + 1 for k planes crossed (2k with b on a plane). Twisted
+    by 1.3 rad, every vertex turned back by -1.3 clip(s / gap) about the axis (scipy) lies
+    in its triangle's plane, inside it."""
+    V0, T0 = loose_triangles()
+    if flipped:                                   # the other orientation of every triangle
+        T0 = T0[:, ::-1].copy()
+    n, origin, gap, samples = np.array([1.0, 0, 0]), np.zeros(3), 4.0, 4
+    normals = triangle_normals(V0, T0)
+    unit_normals = normals / np.linalg.norm(normals, axis=1)[:, None]
+    V, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.0), samples)
+    assert len(T) == expected_count(V0, T0, origin, n, gap, samples, 1e-9)
+    level = V[:, 0] * samples / gap
+    lo, hi = level[T].min(axis=1), level[T].max(axis=1)
+    assert (np.floor(lo + 1e-12) + 1 >= np.ceil(hi - 1e-12)).all()
+    # the parent of each piece: the input triangle whose plane holds its corners
+    off = np.abs(np.einsum("pk,tk->pt", V[T].mean(axis=1), unit_normals)
+                 - np.einsum("tk,tk->t", V0[T0[:, 0]], unit_normals))
+    parent = off.argmin(axis=1)
+    assert off.min(axis=1).max() < 1e-12
+    piece_normals = triangle_normals(V, T)
+    assert (np.einsum("pk,pk->p", piece_normals, normals[parent]) > 0).all()
+    area = np.bincount(parent, np.linalg.norm(piece_normals, axis=1) / 2, len(T0))
+    np.testing.assert_allclose(area, np.linalg.norm(normals, axis=1) / 2, rtol=1e-12)
+    top, bottom = V0[T0, 0].max(axis=1), V0[T0, 0].min(axis=1)    # planes strictly between
+    crossed = np.maximum(np.minimum(np.ceil(top) - 1, samples) - np.maximum(np.floor(bottom) + 1, 0)
+                         + 1, 0)
+    b_on = np.array([np.sort(x)[1] % 1 == 0 and 0 <= np.sort(x)[1] <= samples
+                     and np.sort(x)[0] < np.sort(x)[1] < np.sort(x)[2] for x in V0[T0, 0]])
+    pieces = np.bincount(parent, minlength=len(T0))
+    np.testing.assert_array_equal(pieces, np.where(crossed == 0, 1, 2 * crossed + 1 - b_on))
+    # turned: every vertex back by its own angle lands on its parent triangle
+    angle = 1.3
+    Vt, Tt = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, angle), samples)
+    np.testing.assert_array_equal(Tt, T)
+    back = Rotation.from_rotvec(-angle * np.clip(Vt[:, 0] / gap, 0, 1)[:, None] * n).apply(Vt)
+    np.testing.assert_allclose(back, V, atol=1e-12)
