@@ -198,16 +198,19 @@ class TestPosition(DimensionDriveCase):
         self.check_position(False, (45, 30))
 
     def test_fe_mesh_with_interior_vertices(self):
-        """Mefisto leaves slivers along the rim (a vertex 0.06 mm off a 2.9 mm chord):
-        the reach is shorter there, and asking beyond it says how far it goes."""
-        obj = self.check_position(True, (35, 23))
+        """Mefisto leaves slivers along the rim (a vertex 0.06 mm off a 2.9 mm chord): the
+        hole still lands on the target (circles fitted here), and asking beyond the reach
+        along the same direction says how far it goes."""
+        obj = self.check_position(True, (45, 30))
         back, forward = obj.Reachable
-        self.assertGreater(forward, np.hypot(5, 3))
-        obj.Target, obj.TargetV = 45, 30
+        self.assertGreater(forward, np.hypot(15, 10))
+        asked = forward + 5
+        obj.Target, obj.TargetV = np.array([30, 20]) + asked * np.array([15, 10]) / np.hypot(
+            15, 10)
         self.doc.recompute()
         self.assertIn("Invalid", obj.State)
-        self.assertRegex(obj.getStatusString(),                # along (15, 10) this time
-                         r"can move [0-9.]+ toward the target \(asked 18.0278\)")
+        self.assertRegex(obj.getStatusString(),
+                         rf"can move [0-9.]+ toward the target \(asked {asked:.6g}\)")
 
     def test_quantities_and_the_global_frame(self):
         """Target as quantities, kind in lower case, no frame: u, v are the global x, y."""

@@ -22,6 +22,7 @@ MIN_OFFSET = 0.1      # the smallest offset, as a fraction of the element's long
 MIN_TURN = 1e-3       # radians: a simplified edge turning less gets no edge prism
 FULL_SEARCH = 64      # a region with at most this many elements is searched whole
 CHUNK = 4096          # points scored at once (memory)
+ON_FACE = 1e-12       # x the mesh size: a vertex this far outside its prism's face is on it
 
 
 class Handle(NamedTuple):
@@ -180,15 +181,18 @@ def _bind(V, S, ns, E, dirs, keep, tri_of, edge_of):
     need = np.zeros(nt + ne)
     np.maximum.at(need, which[t], 1.5 * dist)
     h = np.maximum(h, need)
+    # a vertex on a side face (rounding puts it 1e-15 outside) is on it: doubling the
+    # offset does not move side faces, and the clamped coordinates are those of the face
+    on_face = -ON_FACE * float(np.linalg.norm(np.ptp(V, axis=0)))
     for _ in range(GROW_STEPS + 1):
         prisms = base + h[:, None, None] * offset_dirs
         normals, points = face_planes(prisms)
         coords, depth = coordinates_from_planes(normals, points, vertex_volumes(normals), which, x)
-        short = np.unique(which[depth < 0])
+        short = np.unique(which[depth < on_face])
         if len(short) == 0:
             break
         h[short] *= 2.0
-    outside = int(np.count_nonzero(depth < 0))
+    outside = int(np.count_nonzero(depth < on_face))
 
     owner = np.concatenate([keep, S[:, [0, 1, 2, 0, 1, 2]].reshape(-1),
                             E[:, [0, 0, 0, 1, 1, 1]].reshape(-1) if ne else []]).astype(np.int64)

@@ -1,17 +1,22 @@
 """Region-preserving mesh simplification for the deformation handle (Date & Onosato 2008).
 
-Sections 4.2 and 5.1 of the paper simplify the segmented mesh with VSA; here a constrained
-quadric-error half-edge collapse does it instead. The surviving vertex of a collapse keeps
-its position, so every simplified vertex is an original vertex (the correspondence v_c is
-the identity), and no collapse crosses a region boundary, so each simplified triangle lies
-in one region. Meshes are vertices (N, 3) float and consistently oriented triangles (M, 3).
+Sections 4.2 and 5.1 of the paper simplify the segmented mesh with VSA, each region
+triangulated from its outline; here too: the outlines are simplified once, flat regions
+are ear-clipped, curved disks triangulated in a harmonic map, and only curved regions of
+other topology (tubes) go through a constrained quadric-error half-edge collapse. Every
+simplified vertex is an original vertex (the correspondence v_c is the identity) and each
+simplified triangle lies in one region. Meshes are vertices (N, 3) float and consistently
+oriented triangles (M, 3).
 """
 import heapq
 import math
 from typing import NamedTuple
 
 import numpy as np
+from scipy.sparse import csr_matrix, diags
+from scipy.sparse.linalg import spsolve
 
+from .dimension_handle import triangle_fit
 from ..vectors import unit
 
 INTERIOR, LINE, CORNER = 0, 1, 2
@@ -26,28 +31,51 @@ class Simplified(NamedTuple):
 
 
 def simplify(vertices, triangles, labels, tolerance) -> Simplified:
-    """Collapse edges, cheapest first, while the quadric error stays within `tolerance`.
+    """The simplified mesh of (vertices, triangles) with region `labels` (M,) per triangle.
 
-    labels (M,) give the region of each triangle. A vertex inside a region may collapse
-    into any neighbour; a vertex on a boundary line (region boundary or mesh border, two
-    boundary edges separating the same pair of regions) only along that line; corners
-    (every other boundary vertex) stay. A collapse must keep the mesh manifold, turn no
-    remaining triangle by 60 degrees or more nor flatten it, and never lay a boundary line
-    onto another (so a closed loop keeps 3 vertices and no region vanishes). Its cost is
-    the sum of squared distances of the surviving vertex to the planes of the original
-    triangles merged into it and, for boundary vertices, to the planes through their
-    boundary edges perpendicular to the triangles (these keep the lines straight); for a
-    vertex inside a region, the mean per plane. `tolerance` is a length bounding its
-    square root. Rounding puts a floor near 1e-8 of the edge length under that root.
-    Triangles keep their orientation and label; flat parts of a region are then made
-    Delaunay by edge flips, and a second round of collapses (on the simplified mesh's
-    own quadrics) takes what the flips freed.
+    Every region is rebuilt from its outline at once (as VSA and the paper do): the
+    boundary lines (between corners: vertices where three regions meet or lines branch;
+    or closed loops) keep the vertices Douglas-Peucker needs to stay within `tolerance`
+    (a length). A flat region (every vertex within half the tolerance of its plane, every
+    triangle facing within 60 degrees of it) is its outline, holes bridged, ear-clipped.
+    A curved region that is a topological disk is mapped onto the polygon of its kept
+    outline vertices on the unit circle (Tutte's harmonic map: every vertex lands inside)
+    and triangulated there, its edges flipped toward the surface's own Delaunay
+    triangulation; interior vertices go in, the farthest of each bad triangle, until the
+    vertices inside every triangle lie within MAX_FAR tolerances of it (RMS_FAR in the
+    root mean square) and none turns away from the region. Curved regions of other
+    topology (a tube) are simplified first by quadric edge collapses (_collapsed), and
+    their lines taken from there. A mesh the outline route cannot take (a pinched region,
+    an outline that Douglas-Peucker makes cross itself) is collapsed whole. Flat parts
+    of a region are then made Delaunay by edge flips.
     """
     V = np.asarray(vertices, float)
     T = np.asarray(triangles, np.int64).reshape(-1, 3)
     lab = np.asarray(labels).reshape(-1)
+    try:
+        T2, lab2 = _Outlines(V, T, lab, float(tolerance)).run()
+    except _Unfit:
+        return _collapsed(V, T, lab, float(tolerance))
+    return Simplified(delaunay_flips(V, T2, lab2), lab2)
+
+
+def _collapsed(V, T, lab, tolerance, corners=None) -> Simplified:
+    """Collapse edges, cheapest first, while the quadric error stays within `tolerance`.
+
+    A vertex inside a region may collapse into any neighbour; a vertex on a boundary line
+    (region boundary or mesh border, two boundary edges separating the same pair of
+    regions) only along that line; corners (every other boundary vertex, and `corners`
+    (N,) where True) stay. A collapse must keep the mesh manifold, turn no remaining
+    triangle by 60 degrees or more nor flatten it, and never lay a boundary line onto
+    another (so a closed loop keeps 3 vertices and no region vanishes). Its cost is the sum
+    of squared distances of the surviving vertex to the planes of the original triangles
+    merged into it and, for boundary vertices, to the planes through their boundary edges
+    perpendicular to the triangles (these keep the lines straight); for a vertex inside a
+    region, the mean per plane. `tolerance` bounds its square root. Triangles keep their
+    orientation and label; after flips, a second round takes what the flips freed.
+    """
     for _ in range(2):  # flips free collapses the guards refused: one more round
-        mesh = _Collapser(V, T, lab, float(tolerance))
+        mesh = _Collapser(V, T, lab, tolerance, corners)
         mesh.run()
         T, lab = np.array(mesh.tris, np.int64).reshape(-1, 3)[mesh.alive], lab[mesh.alive]
         T = delaunay_flips(V, T, lab)
@@ -57,30 +85,46 @@ def simplify(vertices, triangles, labels, tolerance) -> Simplified:
 def delaunay_flips(V, tris, lab, flat=1e-9):
     """Flip edges inside flat parts of a region until every such edge is locally Delaunay.
 
-    Collapsing leaves slivers (a far corner joined to two close boundary vertices); the
-    handle interpolates across each simplified triangle, so a sliver turns into a steep
-    deformation and an early flip of the mesh under it. An edge is flipped when its two
-    triangles have the same label, are coplanar (normals within `flat` radians), form a
-    convex quadrilateral and their opposite angles add up to more than pi.
+    Collapsing and ear clipping leave slivers (a far corner joined to two close boundary
+    vertices); the handle interpolates across each simplified triangle, so a sliver turns
+    into a steep deformation and an early flip of the mesh under it. An edge is flipped
+    when its two triangles have the same label, are coplanar (normals within `flat`
+    radians), form a convex quadrilateral and their opposite angles add up to more than pi.
     """
     T = [list(t) for t in np.asarray(tris).tolist()]
     P = np.asarray(V, float).tolist()
     lab = np.asarray(lab).tolist()
+    edges = _edge_map(T)
+
+    def should(f, g, a, b, c, d):
+        return lab[f] == lab[g] and _should_flip(P[a], P[b], P[c], P[d], flat)
+    _lawson(T, edges, [e for e, fs in edges.items() if len(fs) == 2], should)
+    return np.array(T, np.int64).reshape(-1, 3)
+
+
+def _edge_map(T):
+    """{frozenset edge: [the triangles on it]} of triangles T (lists of 3 ids)."""
     edges = {}
     for f, t in enumerate(T):
         for k in range(3):
             edges.setdefault(frozenset((t[k], t[(k + 1) % 3])), []).append(f)
-    todo = [e for e, fs in edges.items() if len(fs) == 2]
+    return edges
+
+
+def _lawson(T, edges, todo, should):
+    """Flip edges of T (lists, changed in place; `edges` kept current) popped from `todo`:
+    edge ab of triangles f = abc and g = bad becomes cd when should(f, g, a, b, c, d);
+    the four edges around it are looked at again."""
     while todo:
         e = todo.pop()
         fs = edges.get(e, ())
-        if len(fs) != 2 or lab[fs[0]] != lab[fs[1]]:
+        if len(fs) != 2:
             continue
         f, g = fs
         k = next(k for k in range(3) if {T[f][k], T[f][(k + 1) % 3]} == e)
         a, b, c = T[f][k], T[f][(k + 1) % 3], T[f][(k + 2) % 3]   # f is a, b, c in order
         d = next(x for x in T[g] if x not in e)                    # g is b, a, d
-        if not _should_flip(P[a], P[b], P[c], P[d], flat):
+        if not should(f, g, a, b, c, d):
             continue
         T[f], T[g] = [a, d, c], [b, c, d]
         del edges[e]
@@ -89,7 +133,6 @@ def delaunay_flips(V, tris, lab, flat=1e-9):
             key = frozenset(edge)
             edges[key] = [new if h == old else h for h in edges[key]]
         todo += [frozenset(q) for q in ((a, c), (c, b), (b, d), (d, a))]
-    return np.array(T, np.int64).reshape(-1, 3)
 
 
 class _Collapser:
@@ -104,9 +147,11 @@ class _Collapser:
     cost would be most of the loop.
     """
 
-    def __init__(self, V, T, lab, tolerance):
+    def __init__(self, V, T, lab, tolerance, corners=None):
         n = len(V)
         kind, ends, A = _setup(V, T, lab)
+        if corners is not None:
+            kind[corners] = CORNER
         self.A = A.reshape(n, 9).tolist()
         self.trace = np.trace(A, axis1=1, axis2=2).tolist()
         self.b, self.c = [[0.0, 0.0, 0.0] for _ in range(n)], [0.0] * n
@@ -279,6 +324,13 @@ def _dot(p, q):
 
 def _setup(V, T, lab):
     """Vertex classes, the boundary edges (pairs of vertices) and the initial quadrics."""
+    kind, ends, a, b, face, on_line = _kinds(V, T, lab)
+    return kind, ends, _quadrics(V, T, a, b, face, on_line)
+
+
+def _kinds(V, T, lab):
+    """(vertex classes, boundary edges, and the half-edges a -> b of faces `face` with
+    whether each lies on a boundary line, for the quadrics)."""
     n, m = len(V), len(T)
     region = np.unique(lab, return_inverse=True)[1].reshape(-1)
     border = int(region.max(initial=-1)) + 1
@@ -299,7 +351,7 @@ def _setup(V, T, lab):
     np.minimum.at(lo, ends.reshape(-1), pairs)
     np.maximum.at(hi, ends.reshape(-1), pairs)
     kind = np.where(hits == 0, INTERIOR, np.where((hits == 2) & (lo == hi), LINE, CORNER))
-    return kind, ends, _quadrics(V, T, a, b, face, on_line[edge])
+    return kind, ends, a, b, face, on_line[edge]
 
 
 def _quadrics(V, T, a, b, face, on_line):
@@ -318,24 +370,505 @@ def _should_flip(a, b, c, d, flat):
     """Whether edge ab of triangles abc and bad should become cd (see delaunay_flips).
     Points are 3-tuples of floats: this runs once per edge, where numpy's per-call cost
     on 3-vectors would dominate."""
-    def sub(p, q):
-        return p[0] - q[0], p[1] - q[1], p[2] - q[2]
-
-    def norm(p):
-        return math.sqrt(_dot(p, p))
-
     n1, n2 = _normal(a, b, c), _normal(b, a, d)
-    l1, l2 = norm(n1), norm(n2)
-    if l1 == 0 or l2 == 0 or norm(_cross(n1, n2)) > flat * l1 * l2 or _dot(n1, n2) < 0:
+    l1, l2 = _norm(n1), _norm(n2)
+    if l1 == 0 or l2 == 0 or _norm(_cross(n1, n2)) > flat * l1 * l2 or _dot(n1, n2) < 0:
         return False
-    if _dot(_cross(sub(d, a), sub(c, a)), n1) <= 0 or _dot(_cross(sub(c, b), sub(d, b)), n1) <= 0:
+    if _dot(_cross(_sub(d, a), _sub(c, a)), n1) <= 0 or \
+            _dot(_cross(_sub(c, b), _sub(d, b)), n1) <= 0:
         return False                                   # not convex: the flip would fold
+    return _angle(a, c, b) + _angle(a, d, b) > math.pi + 1e-12
 
-    def angle(p, q, r):                                # at q
-        u, v = sub(p, q), sub(r, q)
-        return math.atan2(norm(_cross(u, v)), _dot(u, v))
-    return angle(a, c, b) + angle(a, d, b) > math.pi + 1e-12
+
+def _sub(p, q):
+    return p[0] - q[0], p[1] - q[1], p[2] - q[2]
+
+
+def _norm(p):
+    return math.sqrt(_dot(p, p))
+
+
+def _angle(p, q, r):
+    """The angle at q of triangle pqr."""
+    u, v = _sub(p, q), _sub(r, q)
+    return math.atan2(_norm(_cross(u, v)), _dot(u, v))
 
 
 def _cross(p, q):
     return p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]
+
+
+# ------------------------------------------------------------------ regions from their outlines
+
+FLAT_TURN_COS = 0.5   # a flat region's triangles all face within 60 degrees of its plane
+MAX_FAR, RMS_FAR = 3.0, 1.5  # a curved region's vertices from its triangles (x tolerance)
+MAX_INSERTS = 64      # rounds of insertion before a curved region is collapsed instead
+
+
+class _Unfit(Exception):
+    """The outline route cannot take this mesh (simplify() collapses it whole instead)."""
+
+
+class _Failed(Exception):
+    """A curved region the harmonic map did not triangulate (it is collapsed instead)."""
+
+    def __init__(self, region):
+        super().__init__(region)
+        self.region = region
+
+
+class _Outlines:
+    """simplify()'s outline route: lines first, then every region from its outline."""
+
+    def __init__(self, V, T, lab, tolerance):
+        self.V, self.T, self.tol = V, T, tolerance
+        n = len(V)
+        self.kind = _kinds(V, T, lab)[0]
+        self.labels, self.region = np.unique(lab, return_inverse=True)
+        self.region = self.region.reshape(-1)
+        self.size = float(np.linalg.norm(np.ptp(V, axis=0))) if n else 0.0
+        self.min_area = MIN_AREA * float(np.sum(np.ptp(V, axis=0) ** 2)) if n else 0.0
+        self.normals = unit(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]))
+        self.loops = self._loops()
+
+    def _loops(self):
+        """Per region, its boundary loops: vertex lists in walking order (region on the left)."""
+        T, n, K = self.T, len(self.V), len(self.labels)
+        a, b = T.reshape(-1), T[:, [1, 2, 0]].reshape(-1)
+        r = np.repeat(self.region, 3)
+        key = (a * n + b) * K + r
+        order = np.argsort(key)
+        sk = key[order]
+        if np.any(sk[1:] == sk[:-1]):
+            raise _Unfit                     # a half-edge twice in one region
+        rev = (b * n + a) * K + r
+        pos = np.clip(np.searchsorted(sk, rev), 0, len(sk) - 1)
+        rim = np.flatnonzero(sk[pos] != rev)
+        rim = rim[np.argsort(r[rim], kind="stable")]
+        cuts = np.searchsorted(r[rim], np.arange(K + 1))
+        loops = []
+        for k in range(K):
+            h = rim[cuts[k]:cuts[k + 1]]
+            nxt = dict(zip(a[h].tolist(), b[h].tolist()))
+            if len(nxt) < len(h):
+                raise _Unfit                 # the region touches itself at a vertex
+            seen, mine = set(), []
+            for s in nxt:
+                if s in seen:
+                    continue
+                loop, x = [], s
+                while x not in seen:
+                    seen.add(x)
+                    loop.append(x)
+                    x = nxt[x]
+                if x != s:
+                    raise _Unfit
+                mine.append(loop)
+            loops.append(mine)
+        return loops
+
+    def run(self):
+        """(triangles, labels) of every region; a curved disk the map cannot take is
+        collapsed with the tubes, and the lines decided again."""
+        failed = set()
+        while True:
+            try:
+                return self._run(failed)
+            except _Failed as e:
+                failed.add(e.region)
+
+    def _run(self, failed):
+        V, T, tol = self.V, self.T, self.tol
+        K, n = len(self.labels), len(V)
+        flat, disk = np.zeros(K, bool), np.zeros(K, bool)
+        self.frames = {}
+        for k in range(K):
+            tri = T[self.region == k]
+            ids = np.unique(tri)
+            c = V[ids].mean(axis=0)
+            normal = np.linalg.svd(V[ids] - c, full_matrices=False)[2][-1]
+            area = np.cross(V[tri[:, 1]] - V[tri[:, 0]], V[tri[:, 2]] - V[tri[:, 0]]).sum(axis=0)
+            if area @ normal < 0:
+                normal = -normal
+            flat[k] = (np.abs((V[ids] - c) @ normal).max() <= max(0.5 * tol, 1e-9 * self.size)
+                       and (self.normals[self.region == k] @ normal).min() > FLAT_TURN_COS)
+            self.frames[k] = normal
+            # Euler characteristic 1: every edge twice but the outline's once
+            edges = (3 * len(tri) + sum(len(loop) for loop in self.loops[k])) // 2
+            disk[k] = len(self.loops[k]) == 1 and len(ids) - edges + len(tri) == 1
+        # curved regions that are no disk: collapsed, and their lines taken from there
+        slow = ~flat & ~disk
+        slow[list(failed)] = True
+        keep = self.kind == CORNER
+        decided = np.zeros(n, bool)
+        parts = []
+        if slow.any():
+            mask = slow[self.region]
+            S = _collapsed(V, T[mask], self.labels[self.region[mask]], tol, keep.copy())
+            parts.append(S)
+            on = np.zeros(n, bool)
+            on[T[mask]] = True
+            keep[np.unique(S.triangles)] = True
+            decided |= on
+        for k in range(K):
+            for loop in self.loops[k]:
+                self._lines(loop, keep, decided)
+        for k in np.flatnonzero(~slow):
+            loops = [[v for v in loop if keep[v]] for loop in self.loops[k]]
+            if min(len(loop) for loop in loops) < 3:
+                raise _Unfit
+            if flat[k]:
+                tris = self._flat(k, loops)
+            else:
+                try:
+                    tris = self._curved(k, loops[0])
+                except _Unfit:
+                    raise _Failed(k) from None
+            parts.append(Simplified(tris, np.full(len(tris), self.labels[k])))
+        return (np.concatenate([p.triangles for p in parts]).astype(np.int64),
+                np.concatenate([p.labels for p in parts]))
+
+    def _lines(self, loop, keep, decided):
+        """Decide the kept vertices of the lines of one boundary loop (Douglas-Peucker
+        within the tolerance between corners; a loop without corners keeps three or more)."""
+        corners = [i for i, v in enumerate(loop) if self.kind[v] == CORNER]
+        if not corners:
+            if decided[loop[0]]:
+                return
+            P = self.V[loop]               # from the vertex farthest from the centre
+            first = int(np.argmax(np.linalg.norm(P - P.mean(axis=0), axis=1)))
+            loop = loop[first:] + loop[:first]
+            P = self.V[loop]
+            far = int(np.argmax(np.linalg.norm(P - P[0], axis=1)))
+            if far == 0:
+                raise _Unfit
+            chain = loop + [loop[0]]
+            mask = np.zeros(len(chain), bool)
+            for lo, hi in ((0, far), (far, len(loop))):
+                mask[lo:hi + 1] |= _douglas_peucker(self.V[chain[lo:hi + 1]], self.tol)
+            if np.count_nonzero(mask[:-1]) < 3:
+                d = _segment_distances(P, P[0], P[far])
+                d[[0, far]] = -1
+                mask[int(np.argmax(d))] = True
+            keep[np.array(loop)[mask[:-1]]] = True
+            decided[loop] = True
+            return
+        start = corners[0]
+        loop = loop[start:] + loop[:start] + [loop[start]]
+        cut = [i - start if i >= start else i - start + len(loop) - 1 for i in corners]
+        cut = sorted(cut) + [len(loop) - 1]
+        for lo, hi in zip(cut, cut[1:]):
+            chain = loop[lo:hi + 1]
+            if len(chain) < 3 or decided[chain[1]]:
+                continue
+            mask = _douglas_peucker(self.V[chain], self.tol)
+            keep[np.array(chain)[mask]] = True
+            decided[chain[1:-1]] = True
+
+    def _flat(self, k, loops):
+        """Ear clipping of a flat region's outline (holes bridged) in its plane."""
+        normal = self.frames[k]
+        u = unit(np.cross(normal, np.eye(3)[np.argmin(np.abs(normal))]))
+        w = np.cross(normal, u)
+        xy = [self.V[loop] @ np.c_[u, w] for loop in loops]
+        _check_simple(xy)
+        areas = np.array([_signed_area(p) for p in xy])
+        outers = np.flatnonzero(areas > 0)      # each piece's outline; holes run clockwise
+        home = {i: [] for i in outers.tolist()}
+        for i in np.flatnonzero(areas <= 0).tolist():
+            around = [j for j in outers.tolist() if _inside(xy[i][0], xy[j])]
+            if not around:
+                raise _Unfit
+            home[min(around, key=lambda j: areas[j])].append(i)
+        out = []
+        for i, holes in home.items():
+            ring, pts = list(loops[i]), xy[i]
+            holes = sorted(holes, key=lambda h: -xy[h][:, 0].max())
+            for done, h in enumerate(holes):
+                ring, pts = _bridged(ring, pts, loops[h], xy[h],
+                                     [xy[j] for j in holes[done + 1:]])
+            out.append(_ear_clipped(ring, pts))
+        return np.concatenate(out)
+
+    def _curved(self, k, boundary):
+        """Triangles of a curved disk region with outline `boundary` (its kept vertices):
+        in Tutte's harmonic map the farthest interior vertex of every triangle that is too
+        far from the vertices inside it (MAX_FAR, RMS_FAR), turned away or flat goes in."""
+        V, T, tol = self.V, self.T, self.tol
+        tri = T[self.region == k]
+        loop = np.array(self.loops[k][0])
+        ids = np.unique(tri)
+        local = np.full(len(V), -1)
+        local[ids] = np.arange(len(ids))
+        L = local[tri]
+        m = len(ids)
+        i = L[:, [0, 1, 2, 1, 2, 0]].ravel()
+        j = L[:, [1, 2, 0, 0, 1, 2]].ravel()
+        W = csr_matrix((np.ones(len(i)), (i, j)), (m, m))
+        W.data[:] = 1.0
+        on_rim = np.zeros(m, bool)
+        on_rim[local[loop]] = True
+        # the outline on the polygon of its kept vertices on the unit circle (by arc
+        # length), so every interior vertex maps inside it
+        step = np.linalg.norm(V[np.roll(loop, -1)] - V[loop], axis=1)
+        arc = np.r_[0.0, np.cumsum(step)]
+        corner = np.flatnonzero(np.isin(loop, boundary))
+        at = np.r_[arc[corner], arc[-1] + arc[corner[0]]]
+        ring = np.c_[np.cos(2 * np.pi * at / arc[-1]), np.sin(2 * np.pi * at / arc[-1])]
+        s = np.where(arc[:-1] < at[0], arc[:-1] + arc[-1], arc[:-1])
+        seg = np.clip(np.searchsorted(at, s, side="right") - 1, 0, len(corner) - 1)
+        f = ((s - at[seg]) / (at[seg + 1] - at[seg]))[:, None]
+        uv = np.zeros((m, 2))
+        uv[local[loop]] = (1 - f) * ring[seg] + f * ring[seg + 1]
+        inner = np.flatnonzero(~on_rim)
+        if len(inner):
+            Lap = diags(np.asarray(W.sum(axis=1)).ravel()) - W
+            rhs = W[inner][:, local[loop]] @ uv[local[loop]]
+            uv[inner] = np.asarray(spsolve(Lap[inner][:, inner].tocsc(), rhs)).reshape(-1, 2)
+        around = np.zeros((m, 3))
+        for c in range(3):
+            np.add.at(around, L[:, c], self.normals[self.region == k])
+        rim = local[np.array(boundary)]
+        X = V[ids]
+        mesh = _Surface(uv, X, around, rim, self.min_area)
+        added = np.zeros(m, bool)
+        last = None
+        for _ in range(MAX_INSERTS):
+            S = np.array(mesh.T, np.int64)
+            A, B, C = X[S[:, 0]], X[S[:, 1]], X[S[:, 2]]
+            n3 = np.cross(B - A, C - A)
+            size = np.linalg.norm(n3, axis=1)
+            ref = around[S].sum(axis=1)
+            bad = (size <= self.min_area) | (np.einsum("ij,ij->i", n3, ref) <= 0)
+            if last is None:
+                where = _locate(uv[inner], uv[S])[0]
+            else:       # a point whose triangle changed is in one of the changed ones
+                same = np.zeros(len(S), bool)
+                same[:len(last)] = (S[:len(last)] == last).all(axis=1)
+                moved = np.flatnonzero(~same[where])
+                changed = np.flatnonzero(~same)
+                where[moved] = changed[_locate(uv[inner[moved]], uv[S[changed]])[0]]
+            last = S
+            nz = np.maximum(size, 1e-300)[:, None]
+            dist, _ = triangle_fit(X[inner], A[where], B[where], C[where], (n3 / nz)[where])
+            worst = np.full(len(S), -1.0)
+            np.maximum.at(worst, where, dist)
+            mean = np.bincount(where, dist * dist, len(S)) / np.maximum(
+                np.bincount(where, minlength=len(S)), 1)
+            bad |= (worst > MAX_FAR * tol) | (mean > (RMS_FAR * tol) ** 2)
+            if not bad.any():
+                return ids[S]
+            # the farthest vertex in each bad triangle (none inside: the nearest to its
+            # centre in the map)
+            can = ~added[inner] & bad[where]
+            pick = np.zeros(len(S), np.int64) - 1
+            if can.any():
+                c = np.flatnonzero(can)
+                order = c[np.lexsort((-dist[c], where[c]))]
+                first = np.r_[True, where[order][1:] != where[order][:-1]]
+                pick[where[order][first]] = inner[order][first]
+            lacking = np.flatnonzero(bad & (pick < 0))
+            free = inner[~added[inner]]
+            if len(lacking) and len(free):
+                centre = uv[S[lacking]].mean(axis=1)
+                pick[lacking] = free[np.argmin(np.linalg.norm(
+                    uv[free][None] - centre[:, None], axis=2), axis=1)]
+            pick = np.unique(pick[pick >= 0])
+            hint = dict(zip(inner.tolist(), where.tolist()))
+            if not any([mesh.insert(p, hint[p]) for p in pick.tolist()]):
+                raise _Unfit
+            added[pick] = True
+        raise _Unfit
+
+
+class _Surface:
+    """A triangulation (local vertex ids, counter-clockwise in the map `uv`) of a curved disk
+    region: its outline fanned, points inserted by splitting the triangle holding them,
+    every edge flipped toward the Delaunay triangulation of the surface (the two angles
+    across it in space add up to at most pi) where the map stays a triangulation."""
+
+    def __init__(self, uv, X, around, ring, min_area):
+        self.uv, self.Q, self.P, self.min_area = uv, uv.tolist(), X.tolist(), min_area
+        self.N = around.tolist()
+        r = [int(x) for x in ring]
+        self.T = [[r[0], r[i], r[i + 1]] for i in range(1, len(r) - 1)]
+        self.edges = _edge_map(self.T)
+        _lawson(self.T, self.edges, [e for e, fs in self.edges.items() if len(fs) == 2],
+                self._should)
+
+    def _should(self, f, g, a, b, c, d):
+        Q, P = self.Q, self.P
+        if _turn(Q[a], Q[d], Q[c]) <= 0 or _turn(Q[b], Q[c], Q[d]) <= 0:
+            return False                               # not convex in the map
+        if not (self._facing(a, d, c) and self._facing(b, c, d)):
+            return False                               # the new pair would fold or be flat
+        if not (self._facing(a, b, c) and self._facing(b, a, d)):
+            return True                                # the old pair folds
+        return _angle(P[a], P[c], P[b]) + _angle(P[a], P[d], P[b]) > math.pi + 1e-12
+
+    def _facing(self, a, b, c):
+        """Whether triangle abc is no sliver and faces the way the surface does at its
+        corners (the sums of the region's normals there)."""
+        P, N = self.P, self.N
+        n = _normal(P[a], P[b], P[c])
+        return _norm(n) > self.min_area and _dot(n, _add3(N[a], N[b], N[c])) > 0
+
+    def insert(self, p, f):
+        """Split the triangle holding point p (f, if it still does) in three and flip
+        around it; False when p lies on an edge (it waits for the next round)."""
+        Q = self.Q
+        a, b, c = self.T[f]
+        lam = min(_turn(Q[a], Q[b], Q[p]), _turn(Q[b], Q[c], Q[p]), _turn(Q[c], Q[a], Q[p]))
+        if lam <= 0:
+            where, lam = _locate(self.uv[[p]], self.uv[np.array(self.T)])
+            f, lam = int(where[0]), lam[0]
+        if lam <= 1e-12 * _turn(*(Q[x] for x in self.T[f])):
+            return False
+        a, b, c = self.T[f]
+        g, h = len(self.T), len(self.T) + 1
+        self.T[f] = [a, b, p]
+        self.T += [[b, c, p], [c, a, p]]
+        for (x, y), old, new in (((b, c), f, g), ((c, a), f, h)):
+            key = frozenset((x, y))
+            self.edges[key] = [new if q == old else q for q in self.edges[key]]
+        self.edges[frozenset((a, p))] = [f, h]
+        self.edges[frozenset((b, p))] = [f, g]
+        self.edges[frozenset((c, p))] = [g, h]
+        _lawson(self.T, self.edges, [frozenset(e) for e in ((a, b), (b, c), (c, a))],
+                self._should)
+        return True
+
+
+def _add3(p, q, r):
+    return p[0] + q[0] + r[0], p[1] + q[1] + r[1], p[2] + q[2] + r[2]
+
+
+def _turn(a, b, c):
+    """Twice the signed area of the 2D triangle abc (2-lists of floats)."""
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
+
+def _locate(points, tris):
+    """(triangle index (k,), its smallest barycentric (k,)) of each 2D point in the
+    triangles tris (t, 3, 2): the one it lies in, or is nearest to lying in."""
+    a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
+    area = _cross2(b - a, c - a)
+    where = np.empty(len(points), np.int64)
+    best = np.empty(len(points))
+    for i in range(0, len(points), 256):
+        q = points[i:i + 256, None, :]
+        lam = np.minimum(np.minimum(_cross2(c - b, q - b), _cross2(a - c, q - c)),
+                         _cross2(b - a, q - a)) / area
+        where[i:i + 256] = np.argmax(lam, axis=1)
+        best[i:i + 256] = lam[np.arange(len(lam)), where[i:i + 256]]
+    return where, best
+
+
+def _segment_distances(P, a, b):
+    ab = b - a
+    t = np.clip((P - a) @ ab / max(ab @ ab, 1e-300), 0.0, 1.0)
+    return np.linalg.norm(P - a - t[:, None] * ab, axis=1)
+
+
+def _douglas_peucker(P, tol):
+    """Which points of the polyline P (k, 3) Douglas-Peucker keeps within `tol` (both ends)."""
+    keep = np.zeros(len(P), bool)
+    keep[[0, -1]] = True
+    todo = [(0, len(P) - 1)]
+    while todo:
+        i, j = todo.pop()
+        if j - i < 2:
+            continue
+        d = _segment_distances(P[i + 1:j], P[i], P[j])
+        k = int(np.argmax(d))
+        if d[k] > tol:
+            keep[i + 1 + k] = True
+            todo += [(i, i + 1 + k), (i + 1 + k, j)]
+    return keep
+
+
+def _signed_area(p):
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _cross2(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _crossing(p, q, A, B):
+    """Whether segment pq properly crosses any of the segments A[i] B[i] (2D)."""
+    d1 = _cross2(q - p, A - p)
+    d2 = _cross2(q - p, B - p)
+    d3 = _cross2(B - A, p - A)
+    d4 = _cross2(B - A, q - A)
+    return bool(np.any((d1 * d2 < 0) & (d3 * d4 < 0)))
+
+
+def _check_simple(loops):
+    """_Unfit unless the 2D loops' edges meet only at shared ends (Douglas-Peucker may
+    cut a corner across another part of the outline)."""
+    A = np.concatenate(loops)
+    B = np.concatenate([np.roll(p, -1, axis=0) for p in loops])
+    d1 = _cross2(B - A, A[:, None] - A)          # [i, j]: end A[i] against edge j
+    d2 = _cross2(B - A, B[:, None] - A)
+    if np.any((d1 * d2 < 0) & (d1.T * d2.T < 0)):
+        raise _Unfit
+
+
+def _inside(p, poly):
+    """Even-odd test of point p in polygon poly (k, 2)."""
+    a, b = poly, np.roll(poly, -1, axis=0)
+    up = (a[:, 1] > p[1]) != (b[:, 1] > p[1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = a[:, 0] + (p[1] - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return bool(np.count_nonzero(up & (x > p[0])) % 2)
+
+
+def _bridged(ring, pts, hole, hxy, later):
+    """The outer ring joined to a hole (its rightmost vertex to the nearest visible ring
+    vertex) by a bridge walked both ways."""
+    i = int(np.argmax(hxy[:, 0]))
+    M = hxy[i]
+    segs = [(pts, np.roll(pts, -1, axis=0)), (hxy, np.roll(hxy, -1, axis=0))]
+    segs += [(h, np.roll(h, -1, axis=0)) for h in later]
+    A = np.concatenate([s[0] for s in segs])
+    B = np.concatenate([s[1] for s in segs])
+    for c in np.argsort(np.linalg.norm(pts - M, axis=1)):
+        mid = 0.5 * (pts[c] + M)
+        if _crossing(M, pts[c], A, B) or _inside(mid, hxy) or any(_inside(mid, h) for h in later):
+            continue
+        c = int(c)
+        ring = ring[:c + 1] + hole[i:] + hole[:i + 1] + ring[c:]
+        pts = np.concatenate([pts[:c + 1], hxy[i:], hxy[:i + 1], pts[c:]])
+        return ring, pts
+    raise _Unfit
+
+
+def _ear_clipped(ring, pts):
+    """Triangles (k - 2, 3) of the counter-clockwise polygon `ring` (ids) at `pts` (k, 2)."""
+    idx = list(range(len(ring)))
+    out = []
+    scale = np.ptp(pts, axis=0).max() ** 2
+    while len(idx) > 3:
+        for pos in range(len(idx)):
+            p, c, q = idx[pos - 1], idx[pos], idx[(pos + 1) % len(idx)]
+            a, b, d = pts[p], pts[c], pts[q]
+            if _cross2(b - a, d - b) <= 1e-14 * scale:
+                continue
+            rest = pts[[x for x in idx if x not in (p, c, q)]]
+            rest = rest[~(np.all(rest == a, axis=1) | np.all(rest == b, axis=1)
+                          | np.all(rest == d, axis=1))]
+            if np.any((_cross2(b - a, rest - a) >= 0) & (_cross2(d - b, rest - b) >= 0)
+                      & (_cross2(a - d, rest - d) >= 0)):
+                continue
+            out.append((ring[p], ring[c], ring[q]))
+            del idx[pos]
+            break
+        else:
+            raise _Unfit
+    a, b, d = (pts[x] for x in idx)
+    if _cross2(b - a, d - b) <= 1e-14 * scale:
+        raise _Unfit
+    out.append(tuple(ring[x] for x in idx))
+    return np.array(out, np.int64).reshape(-1, 3)
