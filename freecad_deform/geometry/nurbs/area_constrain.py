@@ -204,6 +204,7 @@ class Problem:
         return a, self.Dt @ g.ravel()
 
     exact = False       # True: the Hessian from the area's own nodes, not the light rule
+    shifted = False     # whether the last step's W was shifted (not Newton's own step)
 
     def hessian(self, t):
         H = self.q.hessian(self.poles(t), self.movable, self.exact)
@@ -221,7 +222,8 @@ class Problem:
         """The Newton step (dt, new lambda) of the KKT system at (t, lam), W + damping I."""
         W = self.hessian(t) * lam
         W.flat[::len(t) + 1] += 1.0 + damping
-        return _kkt_step(W, g, t, c)
+        dt, lam, self.shifted = _kkt_step(W, g, t, c)
+        return dt, lam
 
 
 class LargeProblem(Problem):
@@ -246,6 +248,7 @@ class LargeProblem(Problem):
         _kkt_step does) and CG starts again."""
         gg = g @ g
         normal = -(c / gg) * g
+        self.shifted = False
         if lam == 0:                        # W = I
             dt = normal - (t - (t @ g / gg) * g)
             return dt, float(-(g @ (dt + t)) / gg)
@@ -267,6 +270,7 @@ class LargeProblem(Problem):
             if curvature is None:
                 break
             shift = max(2 * (shift - curvature), 1e-8)
+            self.shifted = True
         dt = normal + z
         return dt, float(-(g @ (W(dt) + t)) / gg)
 
@@ -307,17 +311,20 @@ def lagrange_newton(problem, target, start=None):
     t, lam = (np.zeros(n), 0.0) if start is None else start
     mu, residual, alpha = 0.0, np.inf, 1.0   # alpha: the last line search's step
     damping = 0.0   # added to W after steps the line search cut hard (W nearly singular)
+    known = None    # (area, gradient) at t when the line search computed them
     for it in range(1, MAX_ITERATIONS + 1):
-        a, g = problem.gradient(t)
-        c = a - target
+        a, g = problem.gradient(t) if known is None else known
+        known, c = None, a - target
         if it > 1 and _converged(t, g, c, target):
             return t, lam, it - 1
         if not np.any(g):
             raise _stalled(problem, target)
         # Newton with the light Hessian converges linearly where that rule is poor (a
-        # tiny knot span): then the Hessian from the area's own nodes
+        # tiny knot span): then the Hessian from the area's own nodes (not after a
+        # shifted step: that one converges linearly by itself, the 20 x 20 canopy)
         new_residual = np.linalg.norm(t + lam * g) + abs(c) * np.linalg.norm(g)
-        if it > 3 and alpha == 1.0 and not damping and new_residual > 0.1 * residual:
+        if it > 3 and alpha == 1.0 and not damping and not problem.shifted and \
+                new_residual > 0.1 * residual:
             problem.exact = True
         residual = new_residual
         dt, lam_new = problem.step(t, lam, g, c, damping)
@@ -327,18 +334,23 @@ def lagrange_newton(problem, target, start=None):
             return 0.5 * x @ x + mu * abs(problem.area(x) - target)
 
         slope = t @ dt - mu * abs(c)
-        f0, alpha = merit(t), 1.0
+        f0, alpha = 0.5 * t @ t + mu * abs(c), 1.0      # merit(t): the area is a
         noise = 1e-14 * (f0 + mu * target)     # the merit's rounding error
         while alpha > 1e-10:
             trial = t + alpha * dt
-            if merit(trial) <= f0 + 1e-4 * alpha * min(slope, 0.0) + noise:
-                break
-            if alpha == 1.0:  # second-order correction: back onto the constraint
-                at, gt = problem.gradient(trial)
+            if alpha == 1.0:  # the full step: its gradient serves the correction or
+                at, gt = problem.gradient(trial)    # the next iteration
+                if 0.5 * trial @ trial + mu * abs(at - target) <= f0 + 1e-4 * min(slope, 0.0) \
+                        + noise:
+                    known = at, gt
+                    break
+                # second-order correction: back onto the constraint
                 soc = trial - (at - target) * gt / (gt @ gt)
                 if merit(soc) <= f0 + 1e-4 * min(slope, 0.0) + noise:
                     trial = soc
                     break
+            elif merit(trial) <= f0 + 1e-4 * alpha * min(slope, 0.0) + noise:
+                break
             alpha *= 0.5
         else:
             raise _stalled(problem, target)
@@ -366,7 +378,8 @@ def continued(problem, target, start=None, steps=4):
 
 
 def _kkt_step(W, g, t, c):
-    """Solve [[W, g], [g^T, 0]] [dt, lambda] = [-t, -c]. W need only be positive definite
+    """Solve [[W, g], [g^T, 0]] [dt, lambda] = [-t, -c]: (dt, lambda, whether W was
+    shifted). W need only be positive definite
     on the constraint's tangent space (then dt is a descent direction): W + sigma g g^T
     positive definite for a large sigma says so, and its Cholesky factor solves the
     system (g^T dt = -c makes the added term a shift of lambda by sigma c). Else W is
@@ -393,7 +406,7 @@ def _kkt_step(W, g, t, c):
             shift *= 2
     a, b = cho_solve(factor, t, check_finite=False), cho_solve(factor, g, check_finite=False)
     mu = (c - g @ a) / (g @ b)
-    return -a - mu * b, float(mu - sigma * c)
+    return -a - mu * b, float(mu - sigma * c), sigma == 0.0
 
 
 def _cholesky(M):

@@ -287,21 +287,26 @@ class Nodes(NamedTuple):
     index: np.ndarray
     weights: np.ndarray
     cell_starts: np.ndarray
-    Su: csr_matrix      # Ru and Rv as sparse (K, poles) matrices
-    Sv: csr_matrix
+    S: csr_matrix       # Ru over Rv as one sparse (2K, poles) matrix: S_u over S_v
+    ST: csr_matrix      # its transpose (the gradient's pull back to the poles)
     tensor: tuple = ()  # non-rational: the rectangles' 1-D rules, one TensorRule per n
 
     def tangents(self, poles):
-        P = np.asarray(poles, float).reshape(-1, 3)
-        return self.Su @ P, self.Sv @ P
+        SP = self.S @ np.asarray(poles, float).reshape(-1, 3)
+        return SP[:len(self.weights)], SP[len(self.weights):]
 
     def normal(self, poles):
         """S_u, S_v, f = |S_u x S_v|, the unit normal and 1 / f (0 where f vanishes)."""
         Su, Sv = self.tangents(poles)
         cross = np.cross(Su, Sv)
-        f = np.linalg.norm(cross, axis=1)
+        f = _row_norm(cross)
         inv = np.divide(1.0, f, out=np.zeros_like(f), where=f > 0)
         return Su, Sv, f, cross * inv[:, None], inv
+
+
+def _row_norm(x):
+    """|x| per row of x (K, 3)."""
+    return np.sqrt(np.einsum("ij,ij->i", x, x))
 
 
 class TensorRule(NamedTuple):
@@ -329,7 +334,6 @@ def nodes(surface, rects, counts):
     starts = np.flatnonzero(np.r_[True, cell[1:] != cell[:-1]]) if len(cell) else \
         np.zeros(0, int)
     K, L = index.shape
-    indptr = np.arange(0, K * L + 1, L)
     tensor = []
     if np.all(surface.weights == 1):
         where = np.empty(K, int)
@@ -340,9 +344,10 @@ def nodes(surface, rects, counts):
             pos = where[offset:offset + R * n * n].reshape(R, n, n)
             tensor.append(TensorRule(pos, *basis, part_index[::n * n]))
             offset += R * n * n
-    return Nodes(Ru, Rv, index, weights, starts,
-                 *(csr_matrix((R.ravel(), index.ravel(), indptr), (K, surface.weights.size))
-                   for R in (Ru, Rv)), tuple(tensor))
+    indptr = np.arange(0, 2 * K * L + 1, L)
+    S = csr_matrix((np.concatenate([Ru.ravel(), Rv.ravel()]), np.tile(index.ravel(), 2),
+                    indptr), (2 * K, surface.weights.size))
+    return Nodes(Ru, Rv, index, weights, starts, S, S.T.tocsr(), tuple(tensor))
 
 
 def _nodes(surface, rects, n):
@@ -382,6 +387,7 @@ class Quadrature:
         n = RULES[self.rects.order]
         self.nodes = nodes(surface, self.rects, n)
         self.light = nodes(surface, self.rects, np.maximum(n // 2, 8))
+        self.scatters = {}      # the Hessian's scatter indices per rule and movable set
 
     @property
     def count(self):
@@ -393,7 +399,7 @@ class Quadrature:
 
     def area(self, poles):
         Su, Sv = self.tangents(poles)
-        return self.fixed + float(self.nodes.weights @ np.linalg.norm(np.cross(Su, Sv), axis=1))
+        return self.fixed + float(self.nodes.weights @ _row_norm(np.cross(Su, Sv)))
 
     def gradient(self, poles, movable):
         """(area, d area / d pole (len(movable), 3)) for the flat pole indices `movable`:
@@ -401,8 +407,7 @@ class Quadrature:
         q = self.nodes
         Su, Sv, f, n, _ = q.normal(poles)
         w = q.weights[:, None]
-        a, b = w * np.cross(Sv, n), w * np.cross(n, Su)
-        g = q.Su.T @ a + q.Sv.T @ b
+        g = q.ST @ np.concatenate([w * np.cross(Sv, n), w * np.cross(n, Su)])
         return self.fixed + float(q.weights @ f), np.asarray(g)[np.asarray(movable, int)]
 
     def hessian(self, poles, movable, exact=False):
@@ -429,7 +434,10 @@ class Quadrature:
         position = np.full(np.asarray(poles).size // 3, -1)
         position[movable] = np.arange(k)
         if q.tensor:
-            return _tensor_hessian(q.tensor, uu, vv, uv, position, k)
+            key = (exact, movable.tobytes())
+            if key not in self.scatters:
+                self.scatters[key] = _scatter(q.tensor, position, k)
+            return _tensor_hessian(q.tensor, uu, vv, uv, self.scatters[key], k)
         coef = (("u", "u", uu), ("v", "v", vv), ("u", "v", uv),
                 ("v", "u", np.transpose(uv, (0, 2, 1))))
         R = {"u": q.Ru, "v": q.Rv}
@@ -451,41 +459,62 @@ class Quadrature:
         return H.reshape(3 * k, 3 * k)
 
 
-def _tensor_hessian(tensor, uu, vv, uv, position, k):
+def _tensor_hessian(tensor, uu, vv, uv, scatter, k):
     """The Hessian of a non-rational surface from its rectangles' tensor rules: a term
     sum_(a,b) R_i c R_j with R_i = X[a, i1] Y[b, i2] and R_j = Z[a, j1] T[b, j2] is summed
-    over b first (the rule's v nodes), then over a: two small matrix products per
-    rectangle instead of one over all n^2 nodes. The blocks go into H by bincount."""
-    H = np.zeros((3 * k) ** 2 + 1)
+    over b first (the rule's v nodes, one matrix product per rectangle for all its u
+    nodes), then over a. The blocks go into H by bincount at the indices `scatter` gives
+    (`_scatter`, computed once per movable set); the uv term's transpose (the vu term) is
+    the transpose of its sum."""
+    G = np.zeros((3 * k) ** 2 + 1)
+    for r, (use, flat) in zip(tensor, scatter):
+        if flat is None:
+            continue
+        _, n, pu = r.Nu.shape
+        pv = r.Nv.shape[2]
+        pos = r.pos[use]
+        Nu, dNu, Nv, dNv = (x[use] for x in (r.Nu, r.dNu, r.Nv, r.dNv))
+        R = len(pos)
+
+        def term(c, X, Y, Z, T):    # (R, pu, pu, 3, 3, pv, pv): [i1, j1, x, y, i2, j2]
+            W = (Y[:, :, :, None] * T[:, :, None, :]).reshape(R, n, pv * pv)
+            cb = c[pos].reshape(R, n, n, 9).transpose(0, 1, 3, 2).reshape(R, n * 9, n)
+            inner = np.matmul(cb, W).reshape(R, n, 9 * pv * pv)         # [a, xy, b]
+            V = (X[:, :, :, None] * Z[:, :, None, :]).reshape(R, n, pu * pu)
+            return np.matmul(V.transpose(0, 2, 1), inner)
+        # uu and vv are symmetric: half of each here, the whole by G + G^T below
+        block = term(0.5 * uu, dNu, Nv, dNu, Nv)
+        block += term(0.5 * vv, Nu, dNv, Nu, dNv)
+        block += term(uv, dNu, Nv, Nu, dNv)
+        G += np.bincount(flat, block.ravel(), minlength=len(G))
+    G = G[:-1].reshape(3 * k, 3 * k)
+    return G + G.T
+
+
+def _scatter(tensor, position, k):
+    """Per tensor rule: (the rectangles that touch a movable pole, the index in the flat
+    (3k + 1)^2 Hessian of each entry of their blocks [i1, j1, x, y, i2, j2], or None when
+    no rectangle does); entries of poles that stay go to one extra bin."""
+    out = []
     for r in tensor:
         R, n, pu = r.Nu.shape
         pv = r.Nv.shape[2]
         local = position[r.poles]                                   # (R, L)
         use = (local >= 0).any(1)
         if not use.any():
+            out.append((use, None))
             continue
-        pos, local = r.pos[use], local[use]
-        Nu, dNu, Nv, dNv = (x[use] for x in (r.Nu, r.dNu, r.Nv, r.dNv))
-        R = len(pos)
-
-        def term(c, X, Y, Z, T):    # (R, pu, pu, 3, 3, pv, pv): [i1, j1, x, y, i2, j2]
-            W = (Y[:, :, :, None] * T[:, :, None, :]).reshape(R, n, pv * pv)
-            cb = c[pos].reshape(R, n, n, 9).transpose(0, 1, 3, 2)   # (R, a, xy, b)
-            inner = np.matmul(cb, W[:, None]).reshape(R, n, 9 * pv * pv)
-            V = (X[:, :, :, None] * Z[:, :, None, :]).reshape(R, n, pu * pu)
-            return np.matmul(V.transpose(0, 2, 1), inner).reshape(R, pu, pu, 3, 3, pv, pv)
-        half = term(uv, dNu, Nv, Nu, dNv)
-        block = term(uu, dNu, Nv, dNu, Nv) + term(vv, Nu, dNv, Nu, dNv) + half + \
-            half.transpose(0, 2, 1, 4, 3, 6, 5)
-        L = pu * pv
-        block = block.transpose(0, 1, 5, 3, 2, 6, 4).reshape(R, 3 * L, 3 * L)
-        row = (3 * local[:, :, None] + np.arange(3)).reshape(R, 3 * L)
-        keep = np.repeat(local >= 0, 3, axis=1)
-        flat = row[:, :, None] * (3 * k) + row[:, None, :]
-        if not keep.all():      # entries of poles that stay go to one extra bin
-            flat = np.where(keep[:, :, None] & keep[:, None, :], flat, (3 * k) ** 2)
-        H += np.bincount(flat.ravel(), block.ravel(), minlength=(3 * k) ** 2 + 1)
-    return H[:-1].reshape(3 * k, 3 * k)
+        local = local[use].reshape(-1, pu, pv)
+        row = 3 * local[:, :, :, None] + np.arange(3)               # [r, i1, i2, x]
+        keep = np.broadcast_to((local >= 0)[:, :, :, None], row.shape)
+        row = np.where(keep, row, -1)
+        # [r, i1, j1, x, y, i2, j2]: row (i1, i2, x), column (j1, j2, y)
+        ri = row.transpose(0, 1, 3, 2)[:, :, None, :, None, :, None]
+        cj = row.transpose(0, 1, 3, 2)[:, None, :, None, :, None, :]
+        flat = ri * (3 * k) + cj
+        flat = np.where((ri >= 0) & (cj >= 0), flat, (3 * k) ** 2)
+        out.append((use, flat.ravel()))
+    return out
 
 
 def touched(rects, surface, movable):
