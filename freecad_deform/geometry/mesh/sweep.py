@@ -10,7 +10,7 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from ..blocks import BLOCK, add_rows, compress_rows, tiled
+from ..blocks import BLOCK, compress_rows
 from .cut import arrays, placed, seam, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, signed_distance, unit_normal
@@ -206,7 +206,8 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     2k + 1 triangles (2k when its middle vertex lies on a plane): sorted by level, its
     vertices a <= b <= c, the chain a -> c on one side and a -> b -> c on the other are
     zipped from a to c, each quadrilateral between two planes split along its shorter
-    diagonal. The cost is linear in the output (no triangle is cut twice). Original
+    diagonal (a triangle crossing one plane, most of them, gets its pieces written
+    directly, the same ones). The cost is linear in the output (no triangle is cut twice). Original
     vertices keep their indices, new ones are appended; orientation is kept; the
     triangles crossing no plane are kept as they are, in their order, then the new ones.
     Large rows are gathered with take: fancy indexing of rows is about 10x slower.
