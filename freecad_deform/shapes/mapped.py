@@ -179,9 +179,15 @@ def _mapped_faces(faces, smap, tol, points=None, what="A face"):
 
 
 def _shared_on_plane(a, b, origin, normal):
-    """The faces of pieces `a` and of pieces `b` in the plane that the split made: each
-    has a partner in the other (same area and centre). A face of the part that merely
-    lies in the plane (a shoulder at Plane) has none and stays."""
+    """The faces of pieces `a` and of pieces `b` in the plane that the split made. The
+    split's general fuse gives both pieces the one face (looked up by hashCode: a scan of
+    every face's surface costs 0.2 s on 1000 faces); pieces that share none are matched in
+    the plane (each face with a partner of the same area and centre in the other). A face
+    of the part that merely lies in the plane (a shoulder at Plane) has none and stays."""
+    shared = {f.hashCode() for s in b for f in s.Faces} & {f.hashCode() for s in a
+                                                          for f in s.Faces}
+    if shared:
+        return tuple([f for s in p for f in s.Faces if f.hashCode() in shared] for p in (a, b))
     fa, fb = (brep.faces_on_plane(p, origin, normal) for p in (a, b))
     size = max([s.BoundBox.DiagonalLength for s in a + b] + [1.0])
 
@@ -751,15 +757,20 @@ def continuity_report(shape, smap):
     for a Smooth profile: the joint is C1), else C0."""
     worst = {}
     for side, origin in ((0, smap.origin), (1, smap.origin + smap.gap * smap.normal)):
-        for name, face, edges in brep.crossing_faces(shape, origin, smap.normal):
-            points, normals = brep.joint_normals(face, edges)
-            if not len(points):
-                continue
-            jump = smap.normal_derivative(points, side)
-            size = np.linalg.norm(jump, axis=1)
-            cos = np.abs(np.einsum("ij,ij->i", normals, jump)) / np.linalg.norm(normals, axis=1)
-            kind = "G1" if np.all((size < 1e-6) | (cos <= 1e-6 * np.maximum(size, 1e-300))) \
-                else "C0"
+        found = [(name, *brep.joint_normals(face, edges))
+                 for name, face, edges in brep.crossing_faces(shape, origin, smap.normal)]
+        found = [f for f in found if len(f[1])]
+        if not found:
+            continue
+        # the map's derivative at all the faces' points at once (one solve, not one a face)
+        points, normals = (np.vstack([f[k] for f in found]) for k in (1, 2))
+        jump = smap.normal_derivative(points, side)
+        size = np.linalg.norm(jump, axis=1)
+        cos = np.abs(np.einsum("ij,ij->i", normals, jump)) / np.linalg.norm(normals, axis=1)
+        g1 = (size < 1e-6) | (cos <= 1e-6 * np.maximum(size, 1e-300))
+        ends = np.cumsum([len(f[1]) for f in found])[:-1]
+        for (name, _, _), ok in zip(found, np.split(g1, ends)):
+            kind = "G1" if np.all(ok) else "C0"
             worst[name] = "C0" if "C0" in (kind, worst.get(name)) else kind
     entries = sorted(worst.items(), key=lambda item: int(item[0][4:]))
     return {"Continuity": continuity.report(entries), "SplitFaces": [n for n, _ in entries]}
