@@ -56,6 +56,22 @@ def _worst_shape(X, triangles):
         initial=1.0))
 
 
+def cotangent_laplacian(vertices, triangles):
+    """The (N, N) cotangent Laplacian of a mesh, weights kept above 1e-3 (positive)."""
+    x = vertices[triangles]
+    cot = []                                  # at each corner, of the edge across it
+    for k in range(3):
+        a, b = x[:, (k + 1) % 3] - x[:, k], x[:, (k + 2) % 3] - x[:, k]
+        cot.append(np.einsum("ij,ij->i", a, b)
+                   / np.maximum(np.linalg.norm(np.cross(a, b), axis=1), 1e-300))
+    w = np.maximum(np.stack(cot, 1), 1e-3)
+    i = triangles[:, [1, 2, 0, 2, 0, 1]].ravel()
+    j = triangles[:, [2, 0, 1, 1, 2, 0]].ravel()
+    n = len(vertices)
+    A = csr_matrix((np.concatenate([w, w], axis=1).ravel(), (i, j)), (n, n))
+    return diags(np.asarray(A.sum(axis=1)).ravel()) - A
+
+
 def flipped(before, after, triangles):
     """Which triangles turn by 90 degrees or more from `before` to `after`."""
     x, y = before[triangles], after[triangles]
@@ -152,44 +168,42 @@ class DimensionModel:
         """The model of the same triangles at new vertex positions (a new handle)."""
         return DimensionModel(vertices, self.triangles, *self.settings)
 
-    def relaxed(self, vertices, base=None):
+    def relaxed(self, vertices, base=None, cache=None):
         """`vertices` (this model's moved) with those inside a planar region (all their
         triangles on it) moved within its plane toward the mean of their neighbours
         (weights: cotangents of the `base` mesh, the same mesh before any drive; default
         this model), the region's boundary fixed: a plane a drive stretched on one side
         (round a grown hole) gets its vertices evened out for the next handle, every plane
         stays where it is. Of the whole move and its halves, the one whose worst triangle
-        is best shaped, flipping none (none: `vertices`)."""
+        is best shaped, flipping none (none: `vertices`). `cache`: a dict kept by a caller
+        that relaxes several models of the same `base` (rehandled), which holds its
+        Laplacian."""
         T = self.triangles
         one = np.diff(self.regions.indptr) == 1                # on one region only
         inside = one.copy()
         inside[one] = self.planar[self.regions.indices[self.regions.indptr[:-1][one]]]
         if not inside.any():
             return vertices
-        n = len(vertices)
-        base = self.vertices if base is None else np.asarray(base, float)
-        x = base[T]
-        cot = []                                  # at each corner, of the edge across it
-        for k in range(3):
-            a, b = x[:, (k + 1) % 3] - x[:, k], x[:, (k + 2) % 3] - x[:, k]
-            cot.append(np.einsum("ij,ij->i", a, b)
-                       / np.maximum(np.linalg.norm(np.cross(a, b), axis=1), 1e-300))
-        w = np.maximum(np.stack(cot, 1), 1e-3)                 # kept positive
-        i = T[:, [1, 2, 0, 2, 0, 1]].ravel()
-        j = T[:, [2, 0, 1, 1, 2, 0]].ravel()
-        A = csr_matrix((np.concatenate([w, w], axis=1).ravel(), (i, j)), (n, n))
+        cache = {} if cache is None else cache
+        if "laplacian" not in cache:
+            cache["laplacian"] = cotangent_laplacian(
+                self.vertices if base is None else np.asarray(base, float), T)
+        L = cache["laplacian"]
         free = np.flatnonzero(inside)
         fixed = np.flatnonzero(~inside)
-        L = diags(np.asarray(A.sum(axis=1)).ravel()) - A
         given = np.asarray(vertices, float)
         Y = given.copy()
         Y[free] = spsolve(L[free][:, free].tocsc(), -(L[free][:, fixed] @ Y[fixed]))\
             .reshape(-1, 3)
         near = np.isin(T, free).any(axis=1)
-        best, score = given, _worst_shape(given, T[near])
+        # only the triangles near a free vertex change; the others are those of `given`
+        if flipped(self.vertices, given, T[~near]).any():
+            return given
+        T = T[near]
+        best, score = given, _worst_shape(given, T)
         for t in 0.5 ** np.arange(RELAX_HALVINGS):
             X = given + t * (Y - given)
-            q = _worst_shape(X, T[near])
+            q = _worst_shape(X, T)
             if q > score and not flipped(self.vertices, X, T).any():
                 best, score = X, q
         return best
@@ -702,6 +716,7 @@ def rehandled(model, drive_of, moved, regions, first=None, limit=MAX_HANDLES,
     base = getattr(model, "nodes", surface.vertices)
     first = drive = first if first is not None else drive_of(model, regions)
     handles, start = 1, abs(first.step)
+    cache = {}                  # the Laplacian of `base`, the same for every handle
     while True:
         lo, hi = drive.reach
         if lo < drive.step < hi:
@@ -718,7 +733,7 @@ def rehandled(model, drive_of, moved, regions, first=None, limit=MAX_HANDLES,
             positions = moved(model, drive._replace(step=s))
         except DeformError as e:
             raise _stalled(first, drive, handles, str(e)) from None
-        model = model.rebuilt(model.relaxed(positions, base))
+        model = model.rebuilt(model.relaxed(positions, base, cache))
         handles += 1
         surface = getattr(model, "surface", model)
         corners = surface.vertices[surface.triangles[picked]]

@@ -61,6 +61,38 @@ def triangle_fit(x, A, B, C, n):
     return np.where(inside, np.abs(h), edge), lam
 
 
+class _TriangleDistance:
+    """Exact point-triangle distances (as triangle_fit's) with every per-triangle quantity
+    computed once: the barycentric coordinates of a point's projection are affine in the
+    point (rows G, offsets o), and so is its parameter along each edge."""
+
+    def __init__(self, A, B, C, n):
+        self.n, self.nA = n, np.einsum("ij,ij->i", n, A)
+        area = np.einsum("ij,ij->i", np.cross(B - A, C - A), n)
+        flat = np.abs(area) <= 1e-300
+        inv = np.where(flat, 0.0, 1.0 / np.where(flat, 1.0, area))[:, None]
+        self.flat = flat
+        self.G = np.stack([np.cross(n, C - B), np.cross(n, A - C), np.cross(n, B - A)], 1) \
+            * inv[:, None]
+        self.o = -np.einsum("tij,tij->ti", self.G, np.stack([B, C, A], 1))
+        self.P = np.stack([A, B, C], 1)
+        self.E = np.stack([B - A, C - B, A - C], 1)
+        length2 = np.einsum("tij,tij->ti", self.E, self.E)
+        self.W = self.E / np.maximum(length2, 1e-300)[..., None]
+        self.w = np.einsum("tij,tij->ti", self.W, self.P)
+
+    def __call__(self, x, c):
+        """Distances (N, k) of points x (N, 1, 3) to the triangles c (N, k)."""
+        x = x[:, 0]
+        h = np.einsum("nkj,nj->nk", self.n[c], x) - self.nA[c]
+        lam = np.einsum("nkij,nj->nki", self.G[c], x) + self.o[c]
+        inside = (lam.min(-1) >= 0) & ~self.flat[c]
+        t = np.clip(np.einsum("nkij,nj->nki", self.W[c], x) - self.w[c], 0.0, 1.0)
+        foot = self.P[c] + t[..., None] * self.E[c]
+        edge = np.sqrt(((x[:, None, None, :] - foot) ** 2).sum(-1).min(-1))
+        return np.where(inside, np.abs(h), edge)
+
+
 def _best(x, elements, centres, fit, k=32):
     """For each point x (N,3), the one of `elements` (indices) it fits best (smallest
     `fit(x, element)`): all of them when they are few, else the k nearest by centre."""
@@ -132,12 +164,12 @@ def build_handle(vertices, triangles, labels, planar, simplified):
     # ... any other to the nearest simplified triangle of its (lowest) region ...
     rest = free[edge_of[free] < 0]
     tri_of = np.full(n, -1)
+    distance = _TriangleDistance(A, B, C, ns)
     for r in np.unique(first[rest]):
         group = rest[first[rest] == r]
         elements = np.nonzero(SL == r)[0]
         tri_of[group] = _best(V[group], elements if len(elements) else np.arange(len(S)),
-                              (A + B + C) / 3,
-                              lambda x, c: triangle_fit(x, A[c], B[c], C[c], ns[c])[0])
+                              (A + B + C) / 3, distance)
     # ... or, outside its footprint, to the edge prism across the nearest side
     if len(E):
         _, lam = triangle_fit(V[rest], A[tri_of[rest]], B[tri_of[rest]], C[tri_of[rest]],

@@ -37,15 +37,15 @@ class VolumeModel:
         """The model of the same elements at new node positions (a new handle)."""
         return VolumeModel(nodes, self.elements, *self.surface.settings)
 
-    def relaxed(self, nodes, base=None):
+    def relaxed(self, nodes, base=None, cache=None):
         """`nodes` with the boundary relaxed in its planes (DimensionModel.relaxed, from the
-        boundary of `base`) and the
-        interior following by the harmonic extension; unchanged where an element would
-        invert."""
+        boundary of `base`, with `cache`) and the interior following by the harmonic
+        extension; unchanged where an element would invert."""
         nodes = np.asarray(nodes, float)
         boundary = nodes[self.boundary]
         shift = self.surface.relaxed(
-            boundary, None if base is None else np.asarray(base)[self.boundary]) - boundary
+            boundary, None if base is None else np.asarray(base)[self.boundary], cache) \
+            - boundary
         if not shift.any():
             return nodes
         out = nodes + self.extension.field(shift)
