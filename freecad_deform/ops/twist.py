@@ -97,7 +97,8 @@ def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, s
                 raise DeformError(f"The twist is too steep for {samples} Samples (the loft "
                                   f"loses {lost:.4g} mm^3); raise Samples or move Plane2 "
                                   f"farther.", "Samples") from None
-        deviation = loft_deviation(result, cut, origin, normal, gap, turn_to)
+        deviation = loft_deviation(result, cut, origin, normal, gap, space_map.twist_map(
+            origin, normal, gap, -angle, axis_point, axis_direction, profile))
         if deviation > tolerance:
             return through_map(solid, zones)
         if report is not None:
@@ -111,11 +112,12 @@ def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, s
     return pp.deform_shape(shape, origin, normal, gap, solid_fn, loose_fn)
 
 
-def loft_deviation(result, cut, origin, normal, gap, turn_to, per_face=6, most=400):
+def loft_deviation(result, cut, origin, normal, gap, turn_back, per_face=6, most=400):
     """The largest distance between the lofted faces of `result` (its B-spline faces that
     span the region) and the exact twist, at points between the profiles: turned back by
-    the angle at their s and moved back to Plane, each must lie on the outline of the `cut`
-    faces (measured with OCCT's distToShape)."""
+    the angle at their s (`turn_back`: the inverse twist map, points (N, 3) at once) and
+    moved back to Plane, each must lie on the outline of the `cut` faces (measured with
+    OCCT's distToShape)."""
     import Part
     from ..shapes.convert import vector
     outline = Part.makeCompound([e for f in cut for e in f.Edges])
@@ -135,19 +137,5 @@ def loft_deviation(result, cut, origin, normal, gap, turn_to, per_face=6, most=4
     pts = np.array(pts)
     if len(pts) > most:
         pts = pts[np.random.default_rng(0).choice(len(pts), most, replace=False)]
-    worst = 0.0
-    for p in pts:
-        s = (p - origin) @ normal
-        back = _rigid_inverse(turn_to(s / gap))
-        q = mo.apply(back, p[None])[0] - s * normal
-        worst = max(worst, outline.distToShape(Part.Vertex(vector(q)))[0])
-    return worst
-
-
-def _rigid_inverse(matrix):
-    """The inverse of a rigid 4x4 motion: its rotation transposed (np.linalg.inv took 3 ms
-    a call on a loaded machine, 400 calls a twist)."""
-    inv = np.eye(4)
-    inv[:3, :3] = matrix[:3, :3].T
-    inv[:3, 3] = -matrix[:3, :3].T @ matrix[:3, 3]
-    return inv
+    back = turn_back(pts) - np.outer((pts - origin) @ normal, normal)
+    return max(outline.distToShape(Part.Vertex(vector(q)))[0] for q in back)
