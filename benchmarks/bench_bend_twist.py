@@ -61,7 +61,7 @@ BREP_CALLS = (("split", "generalFuse"), ("sweep", ("revolve", "makeLoft")), ("fu
               ("sew", "sewShape"), ("unify", "Part.ShapeUpgrade.UnifySameDomain"),
               ("reshape", ("replaceShape", "removeShape")), ("isValid", "isValid"),
               ("apart", "common"),
-              ("continuity", ("joint_report", "_joints")))
+              ("continuity", ("joint_report", "_joints", "continuity_report")))
 MAP_CALLS = (("kernel", ("sweep_points", "map_points_between", "sweep_mesh", "map_between")),
              ("to arrays", ("points_array", "mesh_arrays")),
              ("from arrays", ("points_from_array", "mesh_from_arrays")))
@@ -292,7 +292,24 @@ def rate(count, t):
     return f"{per_s / 1e6:.1f}M/s" if per_s >= 1e6 else f"{per_s / 1e3:.0f}k/s"
 
 
+def only_rows(argv):
+    """(argv without `--only WORDS`, a test `wanted(label)`): with --only, a row runs only
+    when its label holds one of the comma-separated words (any case)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if "-h" in argv or "--help" in argv:
+        print("  --only WORDS     run only the rows whose label holds one of these "
+              "comma-separated words, e.g. --only fc_blocks144,tail ('points' and 'mesh' "
+              "pick those tables)")
+    words = []
+    while "--only" in argv:
+        k = argv.index("--only")
+        words += [w.lower() for w in argv[k + 1].split(",") if w]
+        del argv[k:k + 2]
+    return argv, lambda label: not words or any(w in label.lower() for w in words)
+
+
 def main(argv=None):
+    argv, wanted = only_rows(argv)
     args, timer = options(argv, __doc__)
     runs = timer.runs
     grid = (8, 8) if args.quick else (31, 32)
@@ -314,32 +331,36 @@ def main(argv=None):
         parts.extend(new_parts)
         progress(start, ", ".join(f"{r[0].strip()} ({r[1]}): {seconds(r[3])} s" for r in new_rows))
 
+    def brep_case(name, solid, setup, floor, label, alone=None):
+        if wanted(label):
+            add(brep, *brep_rows(timer, doc, name, solid, setup, floor, label, alone))
+
     # 1. Bend, axis in the plane: the gap is the section revolved (exact)
     sample = Part.read(testdata("face_recognition_sample_part.stp")).Solids[0]
-    add(brep, *brep_rows(timer, doc, "Sample", sample, Bend([150.0, 0, 0], [150.0, 0, 260], -60),
-                         bend_floor, "B-rep sample part: Bend x=150, axis (150,0,260) || y, "
-                                     "-60 deg", alone="bend_shape"))
+    brep_case("Sample", sample, Bend([150.0, 0, 0], [150.0, 0, 260], -60),
+              bend_floor, "B-rep sample part: Bend x=150, axis (150,0,260) || y, "
+                          "-60 deg", alone="bend_shape")
     nx, ny = grid
     t = time.perf_counter()
     plate = holed_plate(nx, ny)
     built = time.perf_counter() - t
     for where, x in (("through a hole column", 400.0 * (nx // 2 + 0.5) / nx),
                      ("between hole columns", 400.0 * (nx // 2) / nx)):
-        add(brep, *brep_rows(timer, doc, "Plate", plate, Bend([x, 0, 0], [x, 0, -40.0], 60),
-                             bend_floor, f"B-rep plate: Bend x={x:.1f} {where}, axis z=-40 || y, "
-                                         f"+60 deg"))
+        brep_case("Plate", plate, Bend([x, 0, 0], [x, 0, -40.0], 60),
+                  bend_floor, f"B-rep plate: Bend x={x:.1f} {where}, axis z=-40 || y, "
+                              f"+60 deg")
 
     # 2. Twist by 90 degrees between two planes, Samples 16: a loft through the profiles
     beam = i_beam()
-    add(brep, *brep_rows(timer, doc, "Beam", beam, Twist([60.0, 0, 0], 80.0, 90, [60.0, 30, 40]),
-                         twist_floor, f"B-rep I-beam: Twist x=60..140, 90 deg, Samples {SAMPLES}",
-                         alone="twist_shape"))
+    brep_case("Beam", beam, Twist([60.0, 0, 0], 80.0, 90, [60.0, 30, 40]),
+              twist_floor, f"B-rep I-beam: Twist x=60..140, 90 deg, Samples {SAMPLES}",
+              alone="twist_shape")
     # the twist needs a constant section between the planes: a 200 mm plain tail on the plate
     tailed = plate.fuse(Part.makeBox(200, 400, 10, V(400, 0, 0))).Solids[0]
-    add(brep, *brep_rows(timer, doc, "TailedPlate", tailed,
-                         Twist([450.0, 0, 0], 100.0, 90, [450.0, 200, 5]), twist_floor,
-                         f"B-rep plate + 200 mm tail: Twist x=450..550, 90 deg, "
-                         f"Samples {SAMPLES}"))
+    brep_case("TailedPlate", tailed,
+              Twist([450.0, 0, 0], 100.0, 90, [450.0, 200, 5]), twist_floor,
+              f"B-rep plate + 200 mm tail: Twist x=450..550, 90 deg, "
+              f"Samples {SAMPLES}")
 
     # 3. fc_blocks144.brep (one solid, 996 planar faces), as in the real-parts matrix: Bend at
     # 30 % of the longest axis (z), 30 deg about an axis across the part a quarter of its
@@ -348,25 +369,26 @@ def main(argv=None):
     bb = blocks.BoundBox
     origin, normal, length = blocks_plane(blocks, 0.3)
     side = Y * (bb.YMax + 0.25 * bb.YLength - origin[1])
-    add(brep, *brep_rows(timer, doc, "Blocks", blocks,
-                         Bend(origin, origin + side, 30, normal, np.cross(normal, Y)),
-                         bend_floor, f"B-rep fc_blocks144: Bend z={origin[2]:.2f} (30 %), axis "
-                                     f"y={origin[1] + side[1]:.1f} || x, 30 deg"))
+    brep_case("Blocks", blocks,
+              Bend(origin, origin + side, 30, normal, np.cross(normal, Y)),
+              bend_floor, f"B-rep fc_blocks144: Bend z={origin[2]:.2f} (30 %), axis "
+                          f"y={origin[1] + side[1]:.1f} || x, 30 deg")
     centroid = section_centroid([blocks], origin, normal)
-    add(brep, *brep_rows(timer, doc, "Blocks", blocks,
-                         Twist(origin, 0.1 * length, 30, centroid, normal), twist_floor,
-                         f"B-rep fc_blocks144: Twist z={origin[2]:.2f}..{origin[2] + 0.1 * length:.2f}"
-                         f" (30..40 %), 30 deg, Samples {SAMPLES}"))
+    brep_case("Blocks", blocks,
+              Twist(origin, 0.1 * length, 30, centroid, normal), twist_floor,
+              f"B-rep fc_blocks144: Twist z={origin[2]:.2f}..{origin[2] + 0.1 * length:.2f}"
+              f" (30..40 %), 30 deg, Samples {SAMPLES}")
 
     # 4. point clouds sampled on the part's surface
     bend = Bend([150.0, 0, 0], [150.0, 0, 260], -60)
     twist = Twist([100.0, 0, 0], 100.0, 90, [100.0, -52.5, 112.5])
-    finest = sample_mesh(*meshes[-1])
-    cloud = surface_samples(*finest, n_points)
-    add(maps, *points_rows(timer, doc, cloud, bend, twist, features=True))
+    finest = sample_mesh(*meshes[-1]) if wanted("points") or wanted("mesh") else None
+    if wanted("points"):
+        cloud = surface_samples(*finest, n_points)
+        add(maps, *points_rows(timer, doc, cloud, bend, twist, features=True))
 
     # 5. meshes of the part
-    for k, spec in enumerate(meshes):
+    for k, spec in enumerate(meshes if wanted("mesh") else ()):
         verts, tris = finest if k == len(meshes) - 1 else sample_mesh(*spec)
         add(maps, *mesh_rows(timer, doc, verts, tris, bend, twist, features=k == 0))
     App.closeDocument(doc.Name)
