@@ -18,7 +18,7 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-from scipy.sparse import csr_matrix
+from scipy.sparse import csc_matrix, csr_matrix
 
 from ..vectors import skew
 
@@ -288,7 +288,8 @@ class Nodes(NamedTuple):
     weights: np.ndarray
     cell_starts: np.ndarray
     S: csr_matrix       # Ru over Rv as one sparse (2K, poles) matrix: S_u over S_v
-    ST: csr_matrix      # its transpose (the gradient's pull back to the poles)
+    ST: csc_matrix      # its transpose (the gradient's pull back to the poles; as CSC
+                        # the product runs over the nodes in order)
     tensor: tuple = ()  # non-rational: the rectangles' 1-D rules, one TensorRule per n
 
     def tangents(self, poles):
@@ -347,7 +348,7 @@ def nodes(surface, rects, counts):
     indptr = np.arange(0, 2 * K * L + 1, L)
     S = csr_matrix((np.concatenate([Ru.ravel(), Rv.ravel()]), np.tile(index.ravel(), 2),
                     indptr), (2 * K, surface.weights.size))
-    return Nodes(Ru, Rv, index, weights, starts, S, S.T.tocsr(), tuple(tensor))
+    return Nodes(Ru, Rv, index, weights, starts, S, S.T, tuple(tensor))
 
 
 def _nodes(surface, rects, n):
@@ -386,7 +387,7 @@ class Quadrature:
         self.rects = rects.take(np.lexsort((rects.sv, rects.su)))
         n = RULES[self.rects.order]
         self.nodes = nodes(surface, self.rects, n)
-        self.light = nodes(surface, self.rects, np.maximum(n // 2, 8))
+        self.light = nodes(surface, self.rects, np.maximum(n // 2, 6))
         self.scatters = {}      # the Hessian's scatter indices per rule and movable set
 
     @property
