@@ -61,13 +61,12 @@ def fit_cylinder(points, normals):
     q = p - c
     centre, radius = _circle(np.column_stack([q @ u, q @ v]))
 
-    def residual(x):
+    def residual(x):     # the products written out: least_squares calls it ~150 times
         a = axis + x[0] * u + x[1] * v
-        a = a / np.linalg.norm(a)
-        o = (x[2] * u + x[3] * v)
-        r = q - o
-        r = r - np.outer(r @ a, a)
-        return np.linalg.norm(r, axis=1) - x[4]
+        a = a / np.sqrt(a @ a)
+        r = q - (x[2] * u + x[3] * v)
+        r -= (r @ a)[:, None] * a
+        return np.sqrt((r * r).sum(axis=1)) - x[4]
 
     x0 = np.array([0.0, 0.0, centre[0], centre[1], radius])
     fit = least_squares(residual, x0, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)

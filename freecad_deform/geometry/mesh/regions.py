@@ -23,7 +23,9 @@ def edge_triangles(triangles):
     m = len(T)
     e = np.sort(np.stack([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]], axis=1).reshape(-1, 2), axis=1)
     face = np.repeat(np.arange(m), 3)
-    edges, inverse = np.unique(e, axis=0, return_inverse=True)
+    n = int(T.max()) + 1 if m else 0
+    keys, inverse = np.unique(e[:, 0] * n + e[:, 1], return_inverse=True)  # rows in order
+    edges = np.c_[keys // n, keys % n] if m else np.zeros((0, 2), np.int64)
     inverse = inverse.reshape(-1)
     order = np.argsort(inverse, kind="stable")
     first = np.searchsorted(inverse[order], np.arange(len(edges)))

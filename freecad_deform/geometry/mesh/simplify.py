@@ -588,7 +588,18 @@ class _Outlines:
                 ring, pts = _bridged(ring, pts, loops[h], xy[h],
                                      [xy[j] for j in holes[done + 1:]])
             out.append(_ear_clipped(ring, pts))
-        return np.concatenate(out)
+        # Delaunay in the plane: ear clipping fans out from reflex corners, and the
+        # region's float32 rounding tilts its triangles beyond delaunay_flips' flatness
+        at = {v: p for loop, p in zip(loops, xy) for v, p in zip(loop, p.tolist())}
+        T = [list(t) for t in np.concatenate(out).tolist()]
+        edges = _edge_map(T)
+
+        def should(f, g, a, b, c, d):
+            A, B, C, D = at[a], at[b], at[c], at[d]
+            return (_turn(A, D, C) > 0 and _turn(B, C, D) > 0
+                    and _angle2(A, C, B) + _angle2(A, D, B) > math.pi + 1e-12)
+        _lawson(T, edges, [e for e, fs in edges.items() if len(fs) == 2], should)
+        return np.array(T, np.int64).reshape(-1, 3)
 
     def _curved(self, k, boundary):
         """Triangles of a curved disk region with outline `boundary` (its kept vertices):
@@ -746,6 +757,12 @@ def _add3(p, q, r):
 def _turn(a, b, c):
     """Twice the signed area of the 2D triangle abc (2-lists of floats)."""
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
+
+def _angle2(p, q, r):
+    """The angle at q of the 2D triangle pqr."""
+    u0, u1, v0, v1 = p[0] - q[0], p[1] - q[1], r[0] - q[0], r[1] - q[1]
+    return math.atan2(abs(u0 * v1 - u1 * v0), u0 * v0 + u1 * v1)
 
 
 def _locate(points, tris):
