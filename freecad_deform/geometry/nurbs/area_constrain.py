@@ -222,7 +222,8 @@ class Problem:
 
     def step(self, t, lam, g, c, damping=0.0):
         """The Newton step (dt, new lambda) of the KKT system at (t, lam), W + damping I."""
-        W = self.hessian(t) * lam
+        W = self.hessian(t)
+        W *= lam                                # in place: n^2 arrays cost page faults
         W.flat[::len(t) + 1] += 1.0 + damping
         dt, lam, self.shifted = _kkt_step(W, g, t, c, self.band)
         return dt, lam
@@ -399,11 +400,14 @@ def _kkt_step(W, g, t, c, band=None):
     system solved."""
     n = len(t)
     sigma, shifted = 0.0, False
-    solve = None if band is None else _band_solver(W, band)
+    lower = None if band is None else _lower_band(W, band)
+    solve = None if lower is None else _band_solver(lower)
     if solve is None:
-        scale = max(1.0, np.abs(W).max())
+        scale = max(1.0, W.max(), -W.min())
         sigma = 1e3 * scale / (g @ g)
-        solve = _dense_solver(W + sigma * np.outer(g, g))
+        M = sigma * np.outer(g, g)
+        M += W
+        solve = _dense_solver(M)
     if solve is None:
         sigma, shifted = 0.0, True
         try:
@@ -413,8 +417,8 @@ def _kkt_step(W, g, t, c, band=None):
             low = float(np.linalg.eigvalsh(W)[0])
         shift = -low + LEAST_CURVATURE
         while solve is None:
-            solve = _dense_solver(W + shift * np.eye(n)) if band is None else \
-                _band_solver(W, band, shift)
+            solve = _dense_solver(W + shift * np.eye(n)) if lower is None else \
+                _band_solver(lower, shift)
             shift *= 2
     a, b = solve(t), solve(g)
     mu = (c - g @ a) / (g @ b)
@@ -424,22 +428,29 @@ def _kkt_step(W, g, t, c, band=None):
 def _dense_solver(M):
     """x -> M^-1 x by M's Cholesky factor, or None when M is not positive definite."""
     try:
-        factor = cho_factor(M, lower=True, check_finite=False)
+        factor = cho_factor(M, lower=True, overwrite_a=True, check_finite=False)
     except np.linalg.LinAlgError:
         return None
     return lambda x: cho_solve(factor, x, check_finite=False)
 
 
-def _band_solver(W, band, shift=0.0):
-    """x -> (W + shift I)^-1 x by the banded Cholesky factor of W (half bandwidth `band`),
-    or None when W + shift I is not positive definite."""
+def _lower_band(W, band):
+    """The lower band of W (n x n, half bandwidth `band`) in LAPACK's form: row d holds
+    the d-th subdiagonal."""
     n = len(W)
     lower = np.zeros((band + 1, n))
     for d in range(band + 1):
         lower[d, :n - d] = np.diagonal(W, -d)
-    lower[0] += shift
+    return lower
+
+
+def _band_solver(lower, shift=0.0):
+    """x -> (W + shift I)^-1 x by the banded Cholesky factor (W's lower band `lower`),
+    or None when W + shift I is not positive definite."""
+    ab = lower.copy()
+    ab[0] += shift
     try:
-        factor = cholesky_banded(lower, lower=True, check_finite=False)
+        factor = cholesky_banded(ab, lower=True, overwrite_ab=True, check_finite=False)
     except np.linalg.LinAlgError:
         return None
     return lambda x: cho_solve_banded((factor, True), x, check_finite=False)

@@ -467,7 +467,7 @@ def _tensor_hessian(tensor, uu, vv, uv, scatter, k):
     nodes), then over a. The blocks go into H by bincount at the indices `scatter` gives
     (`_scatter`, computed once per movable set); the uv term's transpose (the vu term) is
     the transpose of its sum."""
-    G = np.zeros((3 * k) ** 2 + 1)
+    G = None
     for r, (use, flat) in zip(tensor, scatter):
         if flat is None:
             continue
@@ -487,7 +487,10 @@ def _tensor_hessian(tensor, uu, vv, uv, scatter, k):
         block = term(0.5 * uu, dNu, Nv, dNu, Nv)
         block += term(0.5 * vv, Nu, dNv, Nu, dNv)
         block += term(uv, dNu, Nv, Nu, dNv)
-        G += np.bincount(flat, block.ravel(), minlength=len(G))
+        B = np.bincount(flat, block.ravel(), minlength=(3 * k) ** 2 + 1)
+        G = B if G is None else G + B
+    if G is None:
+        return np.zeros((3 * k, 3 * k))
     G = G[:-1].reshape(3 * k, 3 * k)
     return G + G.T
 
