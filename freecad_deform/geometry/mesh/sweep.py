@@ -155,14 +155,7 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     if gap / samples <= 2 * eps:
         raise DeformError(f"{samples} Samples put the cutting planes closer than the tolerance "
                           f"in a gap of {gap:g}; lower Samples.", "Samples")
-    if not np.isfinite(V).all():
-        raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
-                          "infinity); repair or replace the Base mesh.", "Base")
-    s = signed_distance(V, o, n)
-    ends = np.array([s.min(), s.max()])       # all the plane tests need, without a copy of s
-    check_crossing(ends, "Plane", eps, touching=True)
-    check_crossing(ends - gap, "Plane2", eps, touching=True)
-    W, T, f = slab_cut(V, T, o, n, gap, samples, eps, s)
+    W, T, f = slab_cut(V, T, o, n, gap, samples, eps, signed_distance(V, o, n))
     return move_by_fraction(W, f, motion_of_s, in_place=True), T
 
 
@@ -194,12 +187,13 @@ def move_by_fraction(points, f, motion_of_s, in_place=False):
     return out
 
 
-def slab_cut(V, T, o, n, gap, samples, eps, s=None):
+def slab_cut(V, T, o, n, gap, samples, eps, s):
     """The mesh cut at the planes s = gap * j / samples, j = 0..samples, all at once.
 
     Returns (vertices, triangles, fractions): fractions[v] is s / gap of vertex v clipped
     to [0, 1], exactly j / samples for the vertices on plane j. `s` (V's signed distances
-    to the first plane, computed when not given) is written in place. Vertices within eps
+    to the first plane) is written in place. A vertex that is not finite is refused naming
+    Base, planes that miss the part naming Plane or Plane2. Vertices within eps
     of a plane are snapped onto it; every edge gets one new vertex per plane it crosses
     (shared by its two triangles, so closed stays closed), and the cut points joined by a
     section segment shorter than eps are merged. A triangle crossing k planes becomes
@@ -213,29 +207,44 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     Large rows are gathered with take: fancy indexing of rows is about 10x slower.
     """
     N = len(V)
-    s = signed_distance(V, o, n) if s is None else s
     h = gap / samples
-    # per vertex, BLOCK at a time (in the cache): the nearest plane j, the vertices within
-    # eps of it (snapped), the level u in plane units (exact on the planes; clipped so
-    # that floor/ceil stay integers) and its cell between planes
+    # per vertex, BLOCK at a time (in the cache), in one pass: the check that it is finite,
+    # the nearest plane j, the vertices within eps of it (snapped), the level u in plane
+    # units (exact on the planes; clipped so that floor/ceil stay integers), its cell
+    # between planes, its place and its fraction; W and fractions get room for the cut
+    # points too (grown below when a cut makes more)
+    room = N + N // 4 + 1024
+    W, fractions = np.empty((room, 3)), np.empty(room)
     u = np.empty(N)
     small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
     cell = np.empty(N, small)
-    snaps = []
+    lo, hi = np.inf, -np.inf
     for i in range(0, N, BLOCK):
-        s_i, u_i = s[i:i + BLOCK], u[i:i + BLOCK]
+        v = V[i:i + BLOCK]
+        if not np.isfinite(v).all():
+            raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
+                              "infinity); repair or replace the Base mesh.", "Base")
+        end = i + len(v)
+        s_i, u_i, w, f_i = s[i:end], u[i:end], W[i:end], fractions[i:end]
+        lo, hi = min(lo, s_i.min()), max(hi, s_i.max())
         j = np.rint(s_i / h)
         np.clip(j, 0, samples, out=j)
         d = s_i - gap * j / samples
         on = np.flatnonzero(np.abs(d) <= eps)
-        s_i[on] -= d.take(on)
+        d_on, j_on = d.take(on), j.take(on)
+        s_i[on] -= d_on
         np.divide(s_i, h, out=u_i)
-        u_i[on] = j.take(on)
+        u_i[on] = j_on
         np.clip(u_i, -1.0, samples + 1.0, out=u_i)
         np.floor(u_i, out=cell[i:i + BLOCK], casting="unsafe")
-        snaps.append((on + i, d.take(on), j.take(on)))
-    snap, d_snap, j_snap = (np.concatenate(x) for x in zip(*snaps)) if snaps else \
-        (np.empty(0, np.int64), np.empty(0), np.empty(0))
+        w[...] = v
+        w[on] -= d_on[:, None] * n
+        np.divide(s_i, gap, out=f_i)
+        np.clip(f_i, 0.0, 1.0, out=f_i)
+        f_i[on] = j_on / samples
+    ends = np.array([lo, hi])
+    check_crossing(ends, "Plane", eps, touching=True)
+    check_crossing(ends - gap, "Plane2", eps, touching=True)
     # which triangles cross a plane: only those whose corners are not all in one cell
     # between planes can, and only those are sorted (most triangles of a fine mesh cross
     # none); then from their lowest and highest level alone
@@ -250,14 +259,6 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
                                  np.maximum(np.maximum(u0, u1), u2), samples)
     hit = np.flatnonzero(n_ac)
     rows = maybe.take(hit)
-    size = N + int(n_ac.sum()) * 2 + 1       # at most two cut edges per plane crossed
-    W = np.empty((size, 3))
-    W[:N] = V
-    W[snap] -= d_snap[:, None] * n
-    fractions = np.empty(size)
-    np.divide(s, gap, out=fractions[:N])
-    np.clip(fractions[:N], 0.0, 1.0, out=fractions[:N])
-    fractions[snap] = j_snap / samples
     if not len(rows):
         return W[:N], T.copy(), fractions[:N]
     a, b, c, odd = _sorted_corners(Tm.take(hit, axis=0), u0.take(hit), u1.take(hit),
@@ -311,9 +312,10 @@ def slab_cut(V, T, o, n, gap, samples, eps, s=None):
     seg = np.stack([raw(e_ac.take(t), jj), short], 1)[jj != ubt]
     P, label = _merge_segments(P, seg, eps)
     K = len(P)
-    W = W[:N + K]
+    if N + K > room:                          # more cut points than room for them
+        W, fractions = np.concatenate([W[:N], P]), np.concatenate([fractions[:N], np.empty(K)])
+    W, fractions = W[:N + K], fractions[:N + K]
     W[N:] = P
-    fractions = fractions[:N + K]
     fractions[N + label] = jp / samples
 
     def point(e, jj):
