@@ -2,8 +2,10 @@
 import FreeCAD as App
 import numpy as np
 import Part
+from scipy.spatial import cKDTree
 
 from ..geometry.errors import DeformError
+from ..geometry.sweep.defaults import extents as box_extents
 from ..geometry.sweep.planes import frame
 from .convert import vector  # noqa: F401  (re-exported for features)
 
@@ -14,8 +16,10 @@ def solids_of(shape, prop="Base", loose_allowed=False):
     """Oriented copies of the solids of a shape; a shape without any (unless it has loose
     faces or wires and `loose_allowed`) is bad input for `prop`.
 
-    Copies, because OCCT's booleans raise the tolerances of the shapes they touch and the
-    Base is only read.
+    Copies, because OCCT's booleans raise the tolerances of the shapes they touch, and its
+    face merge adds curves on the new faces to the edges it keeps; the Base is only read.
+    Copies of the topology only: tolerances and those curves live there, while the curves
+    and surfaces (shared, 40 % of a deep copy's time) are never changed in place.
     """
     solids = [oriented(s) for s in shape.Solids]
     if not solids and not (loose_allowed and loose_parts(shape)):
@@ -31,28 +35,29 @@ def oriented(solid):
     volumes = shell_volumes(solid)
     outer = int(np.argmax(np.abs(volumes)))
     if all((v > 0) == (k == outer) for k, v in enumerate(volumes)):
-        copy = solid.copy()
+        copy = solid.copy(False)
         _remember(copy, volumes)  # the same shells: their volumes are known
         return copy
     if len(volumes) == 1:
-        return solid.reversed().copy()
-    return solid_of_shells([sh.copy() for sh in solid.Shells]) or solid.copy()
+        return solid.reversed().copy(False)
+    return solid_of_shells([sh.copy(False) for sh in solid.Shells]) or solid.copy(False)
 
 
 _VOLUMES = []  # (shape, signed shell volumes) of recent solids, most recently used last
 
 
-def shell_volumes(solid):
+def shell_volumes(solid, remember=True):
     """Signed volume of each shell of `solid` (negative: it faces inward), remembered for
-    the last few solids: a Base is read at every recompute, and OCCT's volume of B-spline
-    faces costs up to a second."""
+    the last few solids when `remember`: a Base is read at every recompute, and OCCT's
+    volume of B-spline faces costs up to a second."""
     for entry in _VOLUMES:
         if entry[0].isEqual(solid):  # same orientation too
             _VOLUMES.remove(entry)  # the most recently used last
             _VOLUMES.append(entry)
             return entry[1]
     volumes = [sh.Volume for sh in solid.Shells]
-    _remember(solid, volumes)
+    if remember:
+        _remember(solid, volumes)
     return volumes
 
 
@@ -77,7 +82,7 @@ def bound_box(shape):
 
 def _remember(solid, volumes):
     _VOLUMES.append((solid, volumes))  # holding the shape keeps its identity unique
-    del _VOLUMES[:-16]
+    del _VOLUMES[:-24]  # a Base of 12 solids and their oriented copies
 
 
 def solid_of_shells(shells):
@@ -97,10 +102,12 @@ def solid_of_shells(shells):
 
 def solids_volume(shape):
     """The material volume of a shape's solids, whatever their shells' orientation: the
-    outer shell's volume less its voids' (loose faces and wires have none)."""
+    outer shell's volume less its voids' (loose faces and wires have none). Only read from
+    the memory: a Base's solids are in it (`oriented` reads them at every recompute), a
+    result is measured once."""
     total = 0.0
     for solid in shape.Solids:
-        volumes = sorted(np.abs(shell_volumes(solid)), reverse=True)
+        volumes = sorted(np.abs(shell_volumes(solid, remember=False)), reverse=True)
         total += volumes[0] - sum(volumes[1:]) if volumes else 0.0
     return total
 
@@ -214,9 +221,8 @@ def swept_points(points, vec):
 
 def extent(shape, origin, normal):
     """(min, max) signed distance of the shape's bounding-box corners to the plane."""
-    from ..geometry.sweep.defaults import extent as box_extent
-    from .convert import box_arrays
-    return box_extent(*box_arrays(bound_box(shape)), origin, normal)
+    low, high = _box_extents(_rows([bound_box(shape)]), origin, normal)
+    return float(low[0]), float(high[0])
 
 
 def plane_face(shape, origin, normal):
@@ -351,6 +357,23 @@ def joint_vertices(shape, on_surface):
     return {v.hashCode() for v, m in zip(verts, mask) if m}
 
 
+def touching(joint):
+    """A test `meets(sub)`: has the sub-shape a vertex whose hashCode is in `joint`?"""
+    def meets(sub):
+        return any(v.hashCode() in joint for v in sub.Vertexes)
+    return meets
+
+
+def _replaced(solid, gone, new):
+    """`solid` with the faces `gone` replaced by the faces `new` (BRepTools_ReShape: no
+    search over the rest of it), or None where OCCT refuses."""
+    try:
+        out = solid.removeShape(gone[1:]) if len(gone) > 1 else solid
+        return out.replaceShape([(gone[0], Part.makeCompound(new))])
+    except Part.OCCError:
+        return None
+
+
 def join(solids, joints, prop="Plane"):
     """One valid solid from the pieces, merging faces only across the joints.
 
@@ -384,7 +407,8 @@ def join(solids, joints, prop="Plane"):
 def _unshared_faces(solids, on_surface):
     """The faces of the pieces but those on a joint that another piece also has there
     (same centre of mass and area, to 1e-9 of the pieces' size). With joint planes only
-    the faces whose box reaches a plane (to 1e-3 of the size) are tested."""
+    the faces whose box reaches a plane (to 1e-3 of the size) are tested, each first by its
+    outer wire: a face with hundreds of holes across the joint has that many vertices."""
     size = max(s.BoundBox.DiagonalLength for s in solids)
     planes = getattr(on_surface, "planes", None)
 
@@ -401,15 +425,19 @@ def _unshared_faces(solids, on_surface):
             near |= (lo < 1e-3 * size) & (hi > -1e-3 * size)
         return np.flatnonzero(near)
 
+    def on_joint(shape):
+        return on_surface(np.array([tuple(v.Point) for v in shape.Vertexes]))
+
     pieces = [s.Faces for s in solids]
-    keys = [{i: key(fs[i]) for i in candidates(fs)
-             if on_surface(np.array([tuple(v.Point) for v in fs[i].Vertexes]))} for fs in pieces]
-    faces = []
-    for i, fs in enumerate(pieces):
-        others = [k for j, ks in enumerate(keys) if j != i for k in ks.values()]
-        faces += [f for m, f in enumerate(fs) if m not in keys[i] or not any(
-            np.allclose(keys[i][m], o, rtol=0, atol=1e-9) for o in others)]
-    return faces
+    found = [(i, m) for i, fs in enumerate(pieces) for m in candidates(fs)
+             if on_joint(fs[m].OuterWire) and on_joint(fs[m])]
+    shared = set()
+    if found:  # pairs of keys within 1e-9 in every component, of faces of two pieces
+        tree = cKDTree(np.array([key(pieces[i][m]) for i, m in found]))
+        for a, b in tree.query_pairs(1e-9, p=np.inf):
+            if found[a][0] != found[b][0]:
+                shared |= {found[a], found[b]}
+    return [f for i, fs in enumerate(pieces) for m, f in enumerate(fs) if (i, m) not in shared]
 
 
 def _glued(solids, faces, on_surface):
@@ -428,10 +456,7 @@ def _glued(solids, faces, on_surface):
         return None
     keep = {f.hashCode() for f in faces}
     joint = set().union(*(joint_vertices(s, on_surface) for s in solids))
-
-    def meets(sub):
-        return any(v.hashCode() in joint for v in sub.Vertexes)
-
+    meets = touching(joint)  # sees the vertices sewing adds to `joint` below
     touched = [f for f in faces if meets(f)]
     mine = {f.hashCode() for f in touched}
     reduced, holes = _clear_holes_out(touched, meets)
@@ -454,17 +479,15 @@ def _glued(solids, faces, on_surface):
     gone = [f for f in host.Faces if f.hashCode() not in stays and (
         f.hashCode() not in keep or f.hashCode() in mine)]
     new = [f for f in merged if f.hashCode() not in mine]
+    others = keep - mine - own
     added = [f for f in merged if f.hashCode() not in own] + [
-        f for s in solids[1:] for f in s.Faces if f.hashCode() in keep - mine - own]
+        f for s in solids[1:] for f in s.Faces if f.hashCode() in others]
     if not gone or not added:
         return None
-    try:
-        out = host.removeShape(gone[1:]) if len(gone) > 1 else host
-        out = out.replaceShape([(gone[0], Part.makeCompound(added))])
-    except Part.OCCError:
-        return None
-    if out.ShapeType != "Solid" or len(out.Faces) != len(faces) - len(touched) + len(
-            merged) or not _valid_faces(new, meets) or not _shells_valid(out):
+    out = _replaced(host, gone, added)
+    if out is None or out.ShapeType != "Solid" or len(out.Faces) != len(faces) - len(
+            touched) + len(merged) or not _valid_faces(new, meets) or not _manifold(
+            merged, meets) or not _shells_valid(out):
         return None
     return out
 
@@ -547,13 +570,17 @@ def _merged(fused, on_surface):
     unify.keepShapes([e for e in fused.Edges if not on_joint(e)]
                      + [v for v in fused.Vertexes if not on_joint(v)])
     unify.build()
-    # OCCT's face merge can nest wires wrongly on folded joints; then merge all, or none
-    for result in (unify.shape, fused.removeSplitter, lambda: fused):
+    # OCCT's face merge can nest wires wrongly on folded joints; then merge all, or none.
+    # Those two change faces anywhere (removeSplitter merged a void's faces into an
+    # invalid solid whose faces and shells each pass): all of their result is checked.
+    for result, whole in ((unify.shape, False), (fused.removeSplitter, True),
+                          (lambda: fused, True)):
         try:
             shape = result()
         except Part.OCCError:  # removeSplitter raises where it cannot merge
             continue
-        if len(shape.Solids) == 1 and _valid_at_joints(shape, on_surface):
+        if len(shape.Solids) == 1 and _valid_at_joints(shape, on_surface) and (
+                not whole or shape.isValid()):
             return shape.Solids[0], None
     return None, "the faces at a joint fail OCCT's check"
 
@@ -568,30 +595,22 @@ def _merged_at_joints(solid, on_surface, many_wires=8):
     (the Base's own faces, moved or not) is untouched.
     """
     joint = joint_vertices(solid, on_surface)
-
-    def meets(sub):
-        return any(v.hashCode() in joint for v in sub.Vertexes)
-
+    meets = touching(joint)
     touched = [f for f in solid.Faces if meets(f)]
     if not touched:
         return solid if _valid_at_joints(solid, on_surface) else None
     reduced, holes = _clear_holes_out(touched, meets, many_wires)
-    merged = _unified(reduced, joint, on_surface)
-    if merged is None or not _holes_back(reduced, holes, merged):
-        return None
     before = {f.hashCode() for f in touched}
+    merged = _unified(reduced, joint, on_surface)
+    if merged is None or not _holes_back(reduced, holes, merged, before):
+        return None
     after = {f.hashCode() for f in merged}
     gone = [f for f in touched if f.hashCode() not in after]
     new = [f for f in merged if f.hashCode() not in before]
-    out = solid
-    if gone and new:  # else nothing merged
-        try:
-            out = solid.removeShape(gone[1:]) if len(gone) > 1 else solid
-            out = out.replaceShape([(gone[0], Part.makeCompound(new))])
-        except Part.OCCError:
-            return None
-    if out.ShapeType != "Solid" or len(out.Faces) != len(solid.Faces) - len(gone) + len(
-            new) or not _valid_faces(merged, meets, many_wires) or not _shells_valid(out):
+    out = _replaced(solid, gone, new) if gone and new else solid  # else nothing merged
+    if out is None or out.ShapeType != "Solid" or len(out.Faces) != len(solid.Faces) - len(gone) + len(
+            new) or not _valid_faces(merged, meets, many_wires) or not _manifold(
+            merged, meets) or not _shells_valid(out):
         return None
     return out
 
@@ -662,11 +681,39 @@ def _valid_faces(faces, meets, many_wires=8):
     return True
 
 
+def _manifold(faces, meets):
+    """Whether no edge at a joint is used by more than two of `faces` (every face of the
+    solid that meets the joint): where both pieces kept the face they meet on, its edges
+    have four, which neither the faces' check nor the shells' closure sees. (Faces, not
+    uses: a seam is one edge used twice by one face, and FreeCAD 1.1 lists it once.)"""
+    users = {}
+    for k, face in enumerate(faces):
+        for edge in face.Edges:
+            if not edge.Degenerated and meets(edge):
+                users.setdefault(edge.hashCode(), set()).add(k)
+    return all(len(u) <= 2 for u in users.values())
+
+
 def _shells_valid(shape, small_shell=64):
-    """Every shell closed, and every small one (a void's) valid as a whole."""
+    """Every shell closed and of one piece, and every small one (a void's) valid as a whole
+    (OCCT's check of a 1000-face shell takes seconds)."""
     shells = [sh for s in shape.Solids for sh in s.Shells]
     return all(sh.isClosed() for sh in shells) and all(
-        sh.isValid() for sh in shells if len(sh.Faces) <= small_shell)
+        sh.isValid() if len(sh.Faces) <= small_shell else _connected(sh) for sh in shells)
+
+
+def _connected(shell):
+    """Whether the faces of `shell` are one piece through their edges: two pieces that
+    each close themselves (glued where no face joins them) make a closed, manifold shell
+    that is not one."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    pairs = np.array([(i, e.hashCode()) for i, f in enumerate(shell.Faces) for e in f.Edges])
+    _, edge = np.unique(pairs[:, 1], return_inverse=True)
+    count = int(pairs[:, 0].max()) + 1 + int(edge.max()) + 1
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 0].max() + 1 + edge)),
+                       shape=(count, count))
+    return connected_components(graph, directed=False)[0] == 1
 
 
 def _valid_at_joints(shape, on_surface, many_wires=8, small_shell=64):
@@ -678,12 +725,9 @@ def _valid_at_joints(shape, on_surface, many_wires=8, small_shell=64):
     the wires that meet a joint are checked: BRepCheck of the whole face grows with the
     square of its holes and would cost far more than the edit.
     """
-    joint = joint_vertices(shape, on_surface)
-
-    def meets(sub):
-        return any(v.hashCode() in joint for v in sub.Vertexes)
-
-    return _valid_faces([f for f in shape.Faces if meets(f)], meets, many_wires) and \
+    meets = touching(joint_vertices(shape, on_surface))
+    faces = [f for f in shape.Faces if meets(f)]
+    return _valid_faces(faces, meets, many_wires) and _manifold(faces, meets) and \
         _shells_valid(shape, small_shell)
 
 
@@ -828,14 +872,16 @@ def extents(shapes, origin, normal):
 
 def _boxes(shapes):
     """(N, 6) array of the shapes' bounding boxes: min corner, max corner."""
+    return _rows(s.BoundBox for s in shapes)
+
+
+def _rows(boxes):
     return np.array([(b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
-                     for b in (s.BoundBox for s in shapes)]).reshape(-1, 6)
+                     for b in boxes]).reshape(-1, 6)
 
 
 def _box_extents(boxes, origin, normal):
-    low, high = boxes[:, :3] * normal, boxes[:, 3:] * normal
-    at = float(np.dot(origin, normal))
-    return np.minimum(low, high).sum(axis=1) - at, np.maximum(low, high).sum(axis=1) - at
+    return box_extents(boxes[:, :3], boxes[:, 3:], origin, normal)
 
 
 def joint_normals(face, edges, samples=7):

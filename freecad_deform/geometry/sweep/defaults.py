@@ -6,7 +6,7 @@ line (point, direction), all numpy arrays; the GUI's commands and panels convert
 import numpy as np
 
 from .bend import turning_speed
-from .planes import signed_distance, unit_normal
+from .planes import unit_normal
 
 AXES = np.eye(3)
 
@@ -24,8 +24,17 @@ def corners(lo, hi):
 
 def extent(lo, hi, origin, normal):
     """(min, max) signed distance of the box's corners to the plane: the part lies between."""
-    s = signed_distance(corners(lo, hi), origin, normal)
-    return float(s.min()), float(s.max())
+    low, high = extents(np.reshape(lo, (1, 3)), np.reshape(hi, (1, 3)), origin, normal)
+    return float(low[0]), float(high[0])
+
+
+def extents(lows, highs, origin, normal):
+    """(min, max) arrays: extent() of many boxes at once, `lows` and `highs` (N, 3); per
+    axis the nearer and farther corner coordinate, no corners built."""
+    n = unit_normal(normal)
+    low, high = np.asarray(lows, float) * n, np.asarray(highs, float) * n
+    at = float(np.dot(np.asarray(origin, float), n))
+    return np.minimum(low, high).sum(axis=1) - at, np.maximum(low, high).sum(axis=1) - at
 
 
 def crosses(lo, hi, origin, normal):
