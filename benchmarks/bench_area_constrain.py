@@ -132,8 +132,8 @@ def issue_rows(timer, quick):
     interior pole of the 20 x 20 canopy free (972 variables, +5 %), and 100 poles of the
     terrain (the 100 whose x, y lie nearest the face's centre, as Poles entries) through
     the feature's op, +1 % of the area of the cells they shape: the first recompute (the
-    cells they do not touch integrated: 100,000 cells by two rules) and the next one (those
-    cells' areas kept)."""
+    cells they do not touch integrated once: 100,000 cells by three cheap rules, the steep
+    ones adaptively) and the next one (those cells' areas kept)."""
     rows = []
     s = hood(18, 8)
     hood_poles = [i * 8 + j for i in range(1, 17) for j in range(1, 7)]

@@ -191,7 +191,8 @@ class Problem:
         self.identity = self.blocks is not None and self.blocks.shape[2] == 3 and \
             np.array_equal(self.blocks, np.broadcast_to(np.eye(3), self.blocks.shape))  # Free
         s = quadrature.surface
-        self.band = bandwidth(self.D, self.movable, s.weights.shape, (s.udegree, s.vdegree))
+        self.band = None if self.sparse else bandwidth(self.D, self.movable, s.weights.shape,
+                                                       (s.udegree, s.vdegree))
 
     def poles(self, t):
         P = self.Q.reshape(-1, 3).copy()
