@@ -574,6 +574,8 @@ class _Outlines:
         _check_simple(xy)
         areas = np.array([_signed_area(p) for p in xy])
         outers = np.flatnonzero(areas > 0)      # each piece's outline; holes run clockwise
+        if not len(outers):
+            raise _Unfit
         home = {i: [] for i in outers.tolist()}
         for i in np.flatnonzero(areas <= 0).tolist():
             around = [j for j in outers.tolist() if _inside(xy[i][0], xy[j])]
@@ -636,6 +638,8 @@ class _Outlines:
             Lap = diags(np.asarray(W.sum(axis=1)).ravel()) - W
             rhs = W[inner][:, local[loop]] @ uv[local[loop]]
             uv[inner] = np.asarray(spsolve(Lap[inner][:, inner].tocsc(), rhs)).reshape(-1, 2)
+            if not np.all(np.isfinite(uv)):
+                raise _Unfit
         around = np.zeros((m, 3))
         for c in range(3):
             np.add.at(around, L[:, c], self.normals[self.region == k])
