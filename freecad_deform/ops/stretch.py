@@ -111,14 +111,27 @@ def stretch_shape(shape, origin, normal, distance, gap=None, tolerance=1e-3, rep
     if gap is not None and gap + distance <= 0:
         raise DeformError(f"Distance {distance:g} would collapse the region between the planes "
                           f"(gap {gap:g}); keep Distance above {-gap:g}.", "Distance")
+    smap = None if gap is None else space_map.stretch_map(origin, normal, gap, distance)
+
+    def refit(pieces, deviation):
+        """The pieces the stretch map gave; their largest fit deviation is reported."""
+        if report is not None:
+            report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
+        return pieces
+
     return pp.deform_shape(
         shape, origin, normal, gap,
-        lambda solid: _stretch_solid(solid, origin, normal, distance, gap, tolerance, report),
-        lambda parts: _stretch_loose(parts, origin, normal, distance, gap, tolerance, report))
+        lambda solid: _stretch_solid(solid, origin, normal, distance, gap,
+                                     lambda zones: refit(*mapped.map_solid(
+                                         solid, smap, tolerance, "Tolerance", zones))),
+        lambda parts: _stretch_loose(parts, origin, normal, distance, gap,
+                                     lambda between: refit(*mapped.map_loose(
+                                         between, smap, tolerance))))
 
 
-def _stretch_solid(solid, origin, normal, distance, gap, tolerance=1e-3, report=None):
-    """One solid stretched (see stretch_shape); None when nothing of it is left."""
+def _stretch_solid(solid, origin, normal, distance, gap, through_map):
+    """One solid stretched (see stretch_shape); None when nothing of it is left.
+    `through_map(zones)` takes the split solid through the stretch map."""
     move = distance * normal
     if distance == 0:
         return solid.copy()
@@ -132,11 +145,7 @@ def _stretch_solid(solid, origin, normal, distance, gap, tolerance=1e-3, report=
                            [(origin, normal), (origin + (gap + distance) * normal, normal)])
         # planes stay planes and cylinders along the normal stay themselves; other faces
         # are refit (OCCT's own affine transform approximates circles to about 1e-3)
-        smap = space_map.stretch_map(origin, normal, gap, distance)
-        result, deviation = mapped.map_solid(solid, smap, tolerance, "Tolerance", zones)
-        if report is not None:
-            report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
-        return result
+        return through_map(zones)
     if distance > 0:
         near, far = brep.split_zones(solid, origin, normal, [0.0])
         cut = brep.faces_on_plane(near, origin, normal)
@@ -155,20 +164,16 @@ def _joined(pieces, joints):
     return brep.join(pieces, joints) if pieces else None
 
 
-def _stretch_loose(parts, origin, normal, distance, gap, tolerance=1e-3, report=None):
+def _stretch_loose(parts, origin, normal, distance, gap, through_map):
     """Wireframes and free faces: the same split and motion, cut points swept across the
     gap; between two planes the region's pieces go through the stretch map like a solid's
-    faces (planes stay planes, the rest refit within `tolerance`)."""
+    faces (`through_map(pieces)`: planes stay planes, the rest refit)."""
     move = distance * normal
     if not parts or distance == 0:
         return [p.copy() for p in parts]
     if gap is not None:
         near, between, far = brep.split_loose(parts, origin, normal, [0.0, gap])
-        smap = space_map.stretch_map(origin, normal, gap, distance)
-        between, deviation = mapped.map_loose(between, smap, tolerance)
-        if report is not None:
-            report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
-        return near + between + brep.translated(far, move)
+        return near + through_map(between) + brep.translated(far, move)
     if distance > 0:
         near, far = brep.split_loose(parts, origin, normal, [0.0])
         _, cut, wires = brep.split_sheet(near, origin, normal)
