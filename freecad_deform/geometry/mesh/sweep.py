@@ -436,8 +436,10 @@ def _one_plane(W, a, b, c, q, p, lower, level, odd):
     both = np.zeros(len(a), bool)             # b and c tied: (p, q, c), (c, q, b) unless
     tie = np.flatnonzero(level)               # the diagonal p-b is the shorter one
     both[tie] = ~(_length(W, p.take(tie), b.take(tie)) < _length(W, q.take(tie), c.take(tie)))
-    # lower: (a, b, q | p), (a, q, p) | (p, b, q), (p, q, c); upper: (a, q, p) | (p, a, q),
-    # (p, q, b), (p, b, c) or when both (p, q, c), (c, q, b); written corner by corner
+    # lower (a and b below): (a, b, q), (a, q, p) where flipped, else (a, b, p), (p, b, q);
+    # then (p, q, c). Upper (a alone): (a, q, p) where flipped, else (p, a, q) (one
+    # triangle, started where _zipped starts it); then (p, q, b), (p, b, c), or where
+    # `both` (p, q, c), (c, q, b). Written corner by corner.
     corners = [np.where(lower | flip, a, p), np.where(lower, b, np.where(flip, q, a)),
                np.where(lower == flip, q, p),
                np.where(lower & flip, a, p), np.where(lower & ~flip, b, q),
