@@ -547,21 +547,17 @@ def _vectorized(fn, point, direction, angle, shift=None):
         r = {j: Q[j] - c[j] for j in used}
         phi = f * angle
         sin, vers = np.sin(phi), 1.0 - np.cos(phi)
-        scaled = {}                       # a * sin, a * vers: each computed once, +-1 free
-
-        def times(a, base, name):
-            if (a, name) not in scaled:
-                scaled[a, name] = base if a == 1 else -base if a == -1 else a * base
-            return scaled[a, name]
-
         out = []
         for i in range(3):
             x = None if kept[i] else np.array(Q[i])
             for j, a, b in terms[i]:
-                if a:
-                    x += times(a, sin, "sin") * r[j]
-                if b:
-                    x += times(b, vers, "vers") * r[j]
+                for coefficient, base in ((a, sin), (b, vers)):
+                    if coefficient == 1:          # +-1 without a product
+                        x += base * r[j]
+                    elif coefficient == -1:
+                        x -= base * r[j]
+                    elif coefficient:
+                        x += (coefficient * base) * r[j]
             out.append(x)
         return out
 
