@@ -113,10 +113,7 @@ def _joined_locally(near, cut, far, far_cut, mapped, end, joints, deviation):
         f for s, drop in zip(moved, dropped) for k, f in enumerate(s.Faces) if k not in drop]
     on_surface = brep.on_planes(joints)
     joint = set().union(*(brep.joint_vertices(s, on_surface) for s in pieces))
-
-    def meets(sub):
-        return any(v.hashCode() in joint for v in sub.Vertexes)
-
+    meets = brep.touching(joint)  # sees the vertices sewing adds to `joint` below
     touched = [f for f in keep if meets(f)]
     mine = {f.hashCode() for f in touched}
     reduced, holes = brep._clear_holes_out(touched, meets)
@@ -143,13 +140,10 @@ def _joined_locally(near, cut, far, far_cut, mapped, end, joints, deviation):
         f for s in pieces[1:] for f in s.Faces if f.hashCode() in kept - mine - own]
     if not gone or not added:
         return None
-    try:
-        out = host.removeShape(gone[1:]) if len(gone) > 1 else host
-        out = out.replaceShape([(gone[0], Part.makeCompound(added))])
-    except Part.OCCError:
-        return None
-    if out.ShapeType != "Solid" or len(out.Faces) != len(keep) - len(touched) + len(merged) \
-            or not brep._valid_faces(new, meets) or not brep._shells_valid(out):
+    out = brep._replaced(host, gone, added)
+    if out is None or out.ShapeType != "Solid" or len(out.Faces) != len(keep) - len(
+            touched) + len(merged) or not brep._valid_faces(new, meets) or not \
+            brep._manifold(merged, meets) or not brep._shells_valid(out):
         return None
     untouched = kept - mine
     for face in out.Faces:
