@@ -42,11 +42,13 @@ def simplify(vertices, triangles, labels, tolerance) -> Simplified:
     outline vertices on the unit circle (Tutte's harmonic map: every vertex lands inside)
     and triangulated there, its edges flipped toward the surface's own Delaunay
     triangulation; interior vertices go in, the farthest of each bad triangle, until the
-    vertices inside every triangle lie within MAX_FAR tolerances of it (RMS_FAR in the
-    root mean square) and none turns away from the region. Curved regions of other
+    vertices inside every triangle (those RIM_RINGS edges or more off the outline) lie
+    within MAX_FAR tolerances of it (RMS_FAR in the root mean square) and none turns away
+    from the region. Curved regions of other
     topology (a tube) are simplified first by quadric edge collapses (_collapsed), and
     their lines taken from there. A mesh the outline route cannot take (a pinched region,
-    an outline that Douglas-Peucker makes cross itself) is collapsed whole. Flat parts
+    an outline that Douglas-Peucker makes cross itself, two regions spanning the same
+    chord of their line) is collapsed whole. Flat parts
     of a region are then made Delaunay by edge flips.
     """
     V = np.asarray(vertices, float)
@@ -402,7 +404,10 @@ def _cross(p, q):
 
 FLAT_TURN_COS = 0.5   # a flat region's triangles all face within 60 degrees of its plane
 MAX_FAR, RMS_FAR = 3.0, 1.5  # a curved region's vertices from its triangles (x tolerance)
-MAX_INSERTS = 64      # rounds of insertion before a curved region is collapsed instead
+RIM_RINGS = 2         # a curved region is measured and refined this many edges off its outline
+MAX_RESTARTS = 3      # rounds of collapsing the regions the outline route failed
+SLOW_SHARE = 0.5      # beyond this share of triangles to collapse, the whole mesh is (cheaper)
+MAX_INSERTS = 16      # rounds of insertion before a curved region is collapsed instead
 
 
 class _Unfit(Exception):
@@ -410,11 +415,11 @@ class _Unfit(Exception):
 
 
 class _Failed(Exception):
-    """A curved region the harmonic map did not triangulate (it is collapsed instead)."""
+    """Curved regions the harmonic map did not triangulate (they are collapsed instead)."""
 
-    def __init__(self, region):
-        super().__init__(region)
-        self.region = region
+    def __init__(self, regions):
+        super().__init__(regions)
+        self.regions = set(regions)
 
 
 class _Outlines:
@@ -468,14 +473,15 @@ class _Outlines:
         return loops
 
     def run(self):
-        """(triangles, labels) of every region; a curved disk the map cannot take is
-        collapsed with the tubes, and the lines decided again."""
+        """(triangles, labels) of every region; the curved disks the map cannot take are
+        collapsed with the tubes and the lines decided again, at most MAX_RESTARTS times."""
         failed = set()
-        while True:
+        for _ in range(MAX_RESTARTS + 1):
             try:
                 return self._run(failed)
             except _Failed as e:
-                failed.add(e.region)
+                failed |= e.regions
+        raise _Unfit
 
     def _run(self, failed):
         V, T, tol = self.V, self.T, self.tol
@@ -495,8 +501,10 @@ class _Outlines:
             self.frames[k] = normal
             # Euler characteristic 1: every edge twice but the outline's once
             edges = (3 * len(tri) + sum(len(loop) for loop in self.loops[k])) // 2
-            disk[k] = len(self.loops[k]) == 1 and len(ids) - edges + len(tri) == 1
-        # curved regions that are no disk: collapsed, and their lines taken from there
+            disk[k] = (len(self.loops[k]) == 1 and len(ids) - edges + len(tri) == 1
+                       and len(ids) > len(self.loops[k][0]))   # a vertex inside to refine
+        # curved regions that are no disk (or have no vertex inside): collapsed, and
+        # their lines taken from there
         slow = ~flat & ~disk
         slow[list(failed)] = True
         keep = self.kind == CORNER
@@ -504,7 +512,12 @@ class _Outlines:
         parts = []
         if slow.any():
             mask = slow[self.region]
-            S = _collapsed(V, T[mask], self.labels[self.region[mask]], tol, keep.copy())
+            if np.count_nonzero(mask) > SLOW_SHARE * len(T):
+                raise _Unfit                    # little left to gain: collapse it all
+            ids, sub = np.unique(T[mask], return_inverse=True)
+            S = _collapsed(V[ids], sub.reshape(-1, 3), self.labels[self.region[mask]], tol,
+                           keep[ids])
+            S = Simplified(ids[S.triangles], S.labels)
             parts.append(S)
             on = np.zeros(n, bool)
             on[T[mask]] = True
@@ -513,6 +526,7 @@ class _Outlines:
         for k in range(K):
             for loop in self.loops[k]:
                 self._lines(loop, keep, decided)
+        failed_now = []
         for k in np.flatnonzero(~slow):
             loops = [[v for v in loop if keep[v]] for loop in self.loops[k]]
             if min(len(loop) for loop in loops) < 3:
@@ -523,10 +537,18 @@ class _Outlines:
                 try:
                     tris = self._curved(k, loops[0])
                 except _Unfit:
-                    raise _Failed(k) from None
+                    failed_now.append(int(k))
+                    continue
             parts.append(Simplified(tris, np.full(len(tris), self.labels[k])))
-        return (np.concatenate([p.triangles for p in parts]).astype(np.int64),
-                np.concatenate([p.labels for p in parts]))
+        if failed_now:
+            raise _Failed(failed_now)
+        T2 = np.concatenate([p.triangles for p in parts]).astype(np.int64)
+        # two regions may each span the same chord of their common line (an ear of three
+        # nearly collinear kept vertices on both sides): an edge then runs twice one way
+        directed = T2.reshape(-1) * n + T2[:, [1, 2, 0]].reshape(-1)
+        if len(np.unique(directed)) < len(directed):
+            raise _Unfit
+        return T2, np.concatenate([p.labels for p in parts])
 
     def _lines(self, loop, keep, decided):
         """Decide the kept vertices of the lines of one boundary loop (Douglas-Peucker
@@ -644,8 +666,15 @@ class _Outlines:
         for c in range(3):
             np.add.at(around, L[:, c], self.normals[self.region == k])
         rim = local[np.array(boundary)]
+        by_rim = on_rim.copy()
+        for _ in range(RIM_RINGS - 1):
+            by_rim |= (W @ by_rim.astype(float)) > 0
         X = V[ids]
         mesh = _Surface(uv, X, around, rim, self.min_area)
+        # the vertices that measure and refine: those RIM_RINGS edges or more off the
+        # outline (Douglas-Peucker keeps the outline; a vertex inserted next to a line
+        # that moves would flip its small triangle early)
+        probe = inner[~by_rim[inner]] if np.any(~by_rim[inner]) else inner
         added = np.zeros(m, bool)
         last = None
         for _ in range(MAX_INSERTS):
@@ -656,16 +685,16 @@ class _Outlines:
             ref = around[S].sum(axis=1)
             bad = (size <= self.min_area) | (np.einsum("ij,ij->i", n3, ref) <= 0)
             if last is None:
-                where = _locate(uv[inner], uv[S])[0]
+                where = _locate(uv[probe], uv[S])[0]
             else:       # a point whose triangle changed is in one of the changed ones
                 same = np.zeros(len(S), bool)
                 same[:len(last)] = (S[:len(last)] == last).all(axis=1)
                 moved = np.flatnonzero(~same[where])
                 changed = np.flatnonzero(~same)
-                where[moved] = changed[_locate(uv[inner[moved]], uv[S[changed]])[0]]
+                where[moved] = changed[_locate(uv[probe[moved]], uv[S[changed]])[0]]
             last = S
             nz = np.maximum(size, 1e-300)[:, None]
-            dist, _ = triangle_fit(X[inner], A[where], B[where], C[where], (n3 / nz)[where])
+            dist, _ = triangle_fit(X[probe], A[where], B[where], C[where], (n3 / nz)[where])
             worst = np.full(len(S), -1.0)
             np.maximum.at(worst, where, dist)
             mean = np.bincount(where, dist * dist, len(S)) / np.maximum(
@@ -673,23 +702,23 @@ class _Outlines:
             bad |= (worst > MAX_FAR * tol) | (mean > (RMS_FAR * tol) ** 2)
             if not bad.any():
                 return ids[S]
-            # the farthest vertex in each bad triangle (none inside: the nearest to its
-            # centre in the map)
-            can = ~added[inner] & bad[where]
+            # the farthest vertex in each bad triangle; none inside: the vertex nearest
+            # its centre in the map
+            can = ~added[probe] & bad[where]
             pick = np.zeros(len(S), np.int64) - 1
             if can.any():
                 c = np.flatnonzero(can)
                 order = c[np.lexsort((-dist[c], where[c]))]
                 first = np.r_[True, where[order][1:] != where[order][:-1]]
-                pick[where[order][first]] = inner[order][first]
+                pick[where[order][first]] = probe[order][first]
             lacking = np.flatnonzero(bad & (pick < 0))
-            free = inner[~added[inner]]
+            free = probe[~added[probe]]
             if len(lacking) and len(free):
                 centre = uv[S[lacking]].mean(axis=1)
                 pick[lacking] = free[np.argmin(np.linalg.norm(
                     uv[free][None] - centre[:, None], axis=2), axis=1)]
             pick = np.unique(pick[pick >= 0])
-            hint = dict(zip(inner.tolist(), where.tolist()))
+            hint = dict(zip(probe.tolist(), where.tolist()))
             if not any([mesh.insert(p, hint[p]) for p in pick.tolist()]):
                 raise _Unfit
             added[pick] = True
@@ -729,16 +758,43 @@ class _Surface:
         return _norm(n) > self.min_area and _dot(n, _add3(N[a], N[b], N[c])) > 0
 
     def insert(self, p, f):
-        """Split the triangle holding point p (f, if it still does) in three and flip
-        around it; False when p lies on an edge (it waits for the next round)."""
+        """Split the triangle holding point p (f, if it still does) in three, or the two
+        on the edge p lies on in two each, and flip around it; False when p lies on the
+        outline (it cannot go in)."""
         Q = self.Q
         a, b, c = self.T[f]
         lam = min(_turn(Q[a], Q[b], Q[p]), _turn(Q[b], Q[c], Q[p]), _turn(Q[c], Q[a], Q[p]))
         if lam <= 0:
             where, lam = _locate(self.uv[[p]], self.uv[np.array(self.T)])
             f, lam = int(where[0]), lam[0]
-        if lam <= 1e-12 * _turn(*(Q[x] for x in self.T[f])):
+        a, b, c = self.T[f]
+        turns = [_turn(Q[a], Q[b], Q[p]), _turn(Q[b], Q[c], Q[p]), _turn(Q[c], Q[a], Q[p])]
+        k = int(np.argmin(turns))
+        if turns[k] > 1e-12 * _turn(Q[a], Q[b], Q[c]):
+            self._split3(p, f)
+            return True
+        a, b, c = self.T[f][k:] + self.T[f][:k]                # p on edge ab
+        fs = self.edges[frozenset((a, b))]
+        if len(fs) != 2:
             return False
+        g = fs[0] if fs[1] == f else fs[1]
+        d = next(x for x in self.T[g] if x not in (a, b))      # g is b, a, d
+        f2, g2 = len(self.T), len(self.T) + 1
+        self.T[f], self.T[g] = [a, p, c], [b, p, d]
+        self.T += [[p, b, c], [p, a, d]]
+        del self.edges[frozenset((a, b))]
+        for (x, y), old, new in (((b, c), f, f2), ((a, d), g, g2)):
+            key = frozenset((x, y))
+            self.edges[key] = [new if q == old else q for q in self.edges[key]]
+        self.edges[frozenset((a, p))] = [f, g2]
+        self.edges[frozenset((p, b))] = [f2, g]
+        self.edges[frozenset((p, c))] = [f, f2]
+        self.edges[frozenset((p, d))] = [g, g2]
+        _lawson(self.T, self.edges, [frozenset(e) for e in ((a, c), (c, b), (b, d), (d, a))],
+                self._should)
+        return True
+
+    def _split3(self, p, f):
         a, b, c = self.T[f]
         g, h = len(self.T), len(self.T) + 1
         self.T[f] = [a, b, p]
@@ -751,7 +807,6 @@ class _Surface:
         self.edges[frozenset((c, p))] = [g, h]
         _lawson(self.T, self.edges, [frozenset(e) for e in ((a, b), (b, c), (c, a))],
                 self._should)
-        return True
 
 
 def _add3(p, q, r):
