@@ -89,8 +89,8 @@ def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, s
         # twist lost 4 times its region): then the twist map, exact to Tolerance
         # the loft also strays from the exact helicoids between its profiles (0.01 mm on
         # as1_pe_203's 5 m block): beyond Tolerance, the map takes the region too
-        brep.shell_volumes(result)  # measured once and remembered: VolumeChange reads it
-        lost = abs(brep.solids_volume(result) - brep.solids_volume(solid))
+        lost = abs(brep.solids_volume(result, remember=True)  # VolumeChange reads it back
+                   - brep.solids_volume(solid))
         if lost > 1e-3 * sum(s.Volume for s in between):
             try:
                 return through_map(solid, zones)

@@ -100,14 +100,14 @@ def solid_of_shells(shells):
     return Part.makeSolid(Part.makeCompound(turned))
 
 
-def solids_volume(shape):
+def solids_volume(shape, remember=False):
     """The material volume of a shape's solids, whatever their shells' orientation: the
-    outer shell's volume less its voids' (loose faces and wires have none). Only read from
-    the memory: a Base's solids are in it (`oriented` reads them at every recompute), a
-    result is measured once."""
+    outer shell's volume less its voids' (loose faces and wires have none). Read from the
+    memory, written to it only when `remember`: a Base's solids are in it (`oriented`
+    reads them at every recompute), a result is mostly measured once."""
     total = 0.0
     for solid in shape.Solids:
-        volumes = sorted(np.abs(shell_volumes(solid, remember=False)), reverse=True)
+        volumes = sorted(np.abs(shell_volumes(solid, remember)), reverse=True)
         total += volumes[0] - sum(volumes[1:]) if volumes else 0.0
     return total
 
