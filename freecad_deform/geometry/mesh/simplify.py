@@ -783,9 +783,7 @@ class _Surface:
         self.T[f], self.T[g] = [a, p, c], [b, p, d]
         self.T += [[p, b, c], [p, a, d]]
         del self.edges[frozenset((a, b))]
-        for (x, y), old, new in (((b, c), f, f2), ((a, d), g, g2)):
-            key = frozenset((x, y))
-            self.edges[key] = [new if q == old else q for q in self.edges[key]]
+        self._handed_over((((b, c), f, f2), ((a, d), g, g2)))
         self.edges[frozenset((a, p))] = [f, g2]
         self.edges[frozenset((p, b))] = [f2, g]
         self.edges[frozenset((p, c))] = [f, f2]
@@ -794,14 +792,18 @@ class _Surface:
                 self._should)
         return True
 
+    def _handed_over(self, moves):
+        """Each ((x, y), old, new): edge xy now borders triangle `new` where it bordered `old`."""
+        for (x, y), old, new in moves:
+            key = frozenset((x, y))
+            self.edges[key] = [new if q == old else q for q in self.edges[key]]
+
     def _split3(self, p, f):
         a, b, c = self.T[f]
         g, h = len(self.T), len(self.T) + 1
         self.T[f] = [a, b, p]
         self.T += [[b, c, p], [c, a, p]]
-        for (x, y), old, new in (((b, c), f, g), ((c, a), f, h)):
-            key = frozenset((x, y))
-            self.edges[key] = [new if q == old else q for q in self.edges[key]]
+        self._handed_over((((b, c), f, g), ((c, a), f, h)))
         self.edges[frozenset((a, p))] = [f, h]
         self.edges[frozenset((b, p))] = [f, g]
         self.edges[frozenset((c, p))] = [g, h]
