@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.sparse import csr_matrix, diags
 from scipy.sparse.linalg import spsolve
+from scipy.spatial import cKDTree
 
 from .dimension_handle import triangle_fit
 from ..vectors import unit
@@ -22,6 +23,7 @@ from ..vectors import unit
 INTERIOR, LINE, CORNER = 0, 1, 2
 MAX_TURN_COS = 0.5  # a collapse may turn a remaining triangle's normal by less than 60 degrees
 MIN_AREA = 1e-12    # ... and must leave its doubled area above this times the bbox diagonal^2
+CHUNK = 4096       # x 16 point-triangle pairs measured at once by _within (memory)
 
 
 class Simplified(NamedTuple):
@@ -58,7 +60,38 @@ def simplify(vertices, triangles, labels, tolerance) -> Simplified:
         T2, lab2 = _Outlines(V, T, lab, float(tolerance)).run()
     except _Unfit:
         return _collapsed(V, T, lab, float(tolerance))
+    if not _within(V, T, lab, T2, lab2, MAX_FAR * float(tolerance)):
+        return _collapsed(V, T, lab, float(tolerance))
     return Simplified(delaunay_flips(V, T2, lab2), lab2)
+
+
+def _within(V, T, lab, T2, lab2, limit, k=4):
+    """Whether every vertex lies within `limit` of its region's simplified triangles (T2,
+    lab2), in every region it is in: the outline route measures only vertices away from
+    the outlines, and a region collapsed on its own can drop a vertex of its neighbour's
+    outline. A vertex is measured to the k triangles whose centres are nearest, and where
+    those are too far, to all of its region's."""
+    def distances(pts, tris, cand):
+        out = np.empty(len(pts))
+        rows = max(1, CHUNK * 16 // cand.shape[1])      # (rows, candidates, 3) at a time
+        for i in range(0, len(pts), rows):
+            c = cand[i:i + rows]
+            A, B, C = tris[c, 0], tris[c, 1], tris[c, 2]
+            out[i:i + rows] = triangle_fit(pts[i:i + rows, None], A, B, C,
+                                           unit(np.cross(B - A, C - A)))[0].min(axis=1)
+        return out
+
+    for r in np.unique(lab):
+        pts = V[np.unique(T[lab == r])]
+        tris = V[T2[lab2 == r]]
+        if not len(tris):
+            return False
+        near = cKDTree(tris.mean(axis=1)).query(pts, k=min(k, len(tris)))[1]
+        far = distances(pts, tris, near.reshape(len(pts), -1)) > limit
+        if far.any() and distances(pts[far], tris, np.broadcast_to(
+                np.arange(len(tris)), (int(far.sum()), len(tris)))).max() > limit:
+            return False
+    return True
 
 
 def _collapsed(V, T, lab, tolerance, corners=None) -> Simplified:
