@@ -334,3 +334,21 @@ def test_errors_name_the_property(call, prop):
         call(V0, T0)
     assert err.value.prop == prop
     assert prop in str(err.value)
+
+
+@pytest.mark.parametrize("origin", [(np.nan, 0, 0), (0, 0, np.nan), (np.inf, 0, 0)])
+def test_twist_with_a_plane_not_finite_is_refused_naming_plane(origin):
+    """map_between gave the mesh back unchanged for a NaN or infinite Plane (min and max of
+    Python skip NaN, so the planes' ends looked like -inf..inf, which crosses)."""
+    V0, T0 = prism(SQUARE)
+    with np.errstate(invalid="ignore"), pytest.raises(DeformError) as err:
+        map_between(V0, T0, np.array(origin, float), Z, Z2 - Z1,
+                    twist_motion([0, 0, Z1], Z, Z2 - Z1, 0.5), 4)
+    assert err.value.prop == "Plane"
+
+
+def test_twist_of_an_empty_mesh_is_refused_naming_base():
+    with pytest.raises(DeformError) as err:
+        map_between(np.empty((0, 3)), np.empty((0, 3), np.int64), [0, 0, Z1], Z, Z2 - Z1,
+                    twist_motion([0, 0, Z1], Z, Z2 - Z1, 0.5), 4)
+    assert err.value.prop == "Base"

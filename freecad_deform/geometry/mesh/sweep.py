@@ -226,7 +226,7 @@ def slab_cut(V, T, o, n, gap, samples, eps, s):
                               "infinity); repair or replace the Base mesh.", "Base")
         end = i + len(v)
         s_i, u_i, w, f_i = s[i:end], u[i:end], W[i:end], fractions[i:end]
-        lo, hi = min(lo, s_i.min()), max(hi, s_i.max())
+        lo, hi = np.minimum(lo, s_i.min()), np.maximum(hi, s_i.max())  # NaN stays
         j = np.rint(s_i / h)
         np.clip(j, 0, samples, out=j)
         d = s_i - gap * j / samples
@@ -243,6 +243,12 @@ def slab_cut(V, T, o, n, gap, samples, eps, s):
         np.clip(f_i, 0.0, 1.0, out=f_i)
         f_i[on] = j_on / samples
     ends = np.array([lo, hi])
+    if not N:
+        raise DeformError("The Base mesh has no vertices; give Base a mesh with triangles.",
+                          "Base")
+    if not np.isfinite(ends).all():  # finite vertices: Plane's numbers are not
+        raise DeformError("Plane's position or normal is not a finite number (NaN or "
+                          "infinity); set Plane to finite numbers.", "Plane")
     check_crossing(ends, "Plane", eps, touching=True)
     check_crossing(ends - gap, "Plane2", eps, touching=True)
     # which triangles cross a plane: only those whose corners are not all in one cell
