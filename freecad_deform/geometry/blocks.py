@@ -16,10 +16,11 @@ def compress_rows(mask, T, out):
     return len(rows)
 
 
-def tiled(vector):
-    """A (3,) vector repeated for BLOCK rows, flat, to add it to a block of rows as one flat
-    operation: numpy broadcasts a (3,) vector over rows 3x slower (an inner loop of 3)."""
-    return np.tile(np.asarray(vector, float), BLOCK)
+def tiled(vector, rows=BLOCK):
+    """A (3,) vector repeated for BLOCK rows (fewer when the array has fewer `rows`), flat,
+    to add it to a block of rows as one flat operation: numpy broadcasts a (3,) vector over
+    rows 3x slower (an inner loop of 3)."""
+    return np.tile(np.asarray(vector, float), max(1, min(rows, BLOCK)))
 
 
 def add_rows(rows, tile):

@@ -67,15 +67,18 @@ def apply(matrix, points, out=None, where=None):
     (K, 4, 4) -> (K, N, 3).
 
     One transform goes BLOCK rows at a time (in the CPU cache), into `out` (N, 3),
-    C-contiguous, when given; with `where` (N,) bool, only those rows are moved and the
-    others are copied bit-identical (every row is transformed and the others copied back:
-    cheaper than a gather and a scatter of the moved ones)."""
+    C-contiguous and apart from `points`, when given; with `where` (N,) bool, only those
+    rows are moved and the others are copied bit-identical (every row is transformed and the
+    others copied back: cheaper than a gather and a scatter of the moved ones)."""
     M = np.asarray(matrix, float)
     P = np.asarray(points, float).reshape(-1, 3)
     if M.ndim > 2:
         return P @ np.swapaxes(M[..., :3, :3], -1, -2) + M[..., None, :3, 3]
-    out = np.empty((len(P), 3)) if out is None else out
-    turn, shift = np.ascontiguousarray(M[:3, :3].T), tiled(M[:3, 3])
+    if out is None:
+        out = np.empty((len(P), 3))
+    elif not out.flags.c_contiguous or np.may_share_memory(out, P):
+        raise ValueError("apply: out must be C-contiguous and apart from points")
+    turn, shift = np.ascontiguousarray(M[:3, :3].T), tiled(M[:3, 3], len(P))
     for i in range(0, len(P), BLOCK):
         p, head = P[i:i + BLOCK], out[i:i + BLOCK]
         np.matmul(p, turn, out=head)

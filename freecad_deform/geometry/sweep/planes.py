@@ -43,7 +43,7 @@ def signed_distance(points, origin, normal):
     pts = np.ascontiguousarray(points, dtype=float).reshape(-1, 3)
     s = np.empty(len(pts))
     rows = np.empty(min(BLOCK, len(pts)) * 3)
-    minus_o = tiled(-np.asarray(origin, dtype=float).reshape(3))
+    minus_o = tiled(-np.asarray(origin, dtype=float).reshape(3), len(pts))
     for i in range(0, len(pts), BLOCK):
         block = pts[i:i + BLOCK].reshape(-1)
         r = rows[:block.size]
