@@ -6,6 +6,7 @@ by (gap + distance) / gap; a twist keeps volume and turns each section), OCCT's 
 its BOP check (BOPAlgo_ArgumentAnalyzer through Shape.check(True)), Shape.slice.
 """
 import unittest
+from unittest import mock
 
 from . import fc
 
@@ -69,7 +70,16 @@ class LocalJoin(unittest.TestCase):
     def test_twist_of_a_region_that_changes_its_outline(self):
         solid = stepped_bar()
         z0, z1, angle = 7.5, 22.5, 30.0
-        obj = self.twisted(solid, z0, z1, angle)
+        joined, local = [], mapped._joined_locally
+
+        def recorded(*args):
+            joined.append(local(*args))
+            return joined[-1]
+
+        with mock.patch.object(mapped, "_joined_locally", recorded):
+            obj = self.twisted(solid, z0, z1, angle)
+        self.assertTrue(joined and all(j is not None for j in joined),
+                        "the local join gave up: the full sewing made this result")
         result = obj.Shape
         self.assertTrue(result.isValid())
         self.assertEqual(len(result.Solids), 1)
