@@ -157,6 +157,40 @@ class LastResortsTest(unittest.TestCase):
         self.assertTrue(result.isValid())
 
 
+class LoftedJoinTest(unittest.TestCase):
+    """A twist of a region of one outline lofts its sides and glues them locally to the near
+    and far parts (brep.glue), without sewing all their faces: the 12 x 12-hole plate with a
+    plain 100 mm tail, twisted 90 deg in the tail. Oracles: the loft is glued (not sewn
+    whole), isValid(), the volume kept to 1e-6, the far holes turned by the angle."""
+
+    def test_twist_in_the_tail_is_glued(self):
+        from freecad_deform.ops import twist
+        fc.new_document("BrepLofted")
+        solid = holed_plate().fuse(Part.makeBox(100, SIZE, THICK, V(SIZE, 0, 0))).removeSplitter()
+        solid = solid.Solids[0]
+        glued, glue = [], brep.glue
+
+        def recorded(*args):
+            glued.append(glue(*args))
+            return glued[-1]
+
+        x0 = np.array([SIZE + 30.0, 0, 0])
+        axis = np.array([0, SIZE / 2, THICK / 2])
+        with mock.patch.object(brep, "glue", recorded):
+            result = twist.twist_shape(solid, x0, NORMAL, 40.0, np.radians(90), axis, NORMAL)
+        self.assertTrue(glued and glued[-1] is not None, "the loft was not glued")
+        self.assertTrue(result.isValid())
+        self.assertEqual(len(result.Solids), 1)
+        self.assertAlmostEqual(result.Volume, solid.Volume, delta=1e-6 * solid.Volume)
+        # beyond Plane2 the tail is turned a quarter about the axis: its end face spans
+        # the plate's thickness in y and its width in z
+        end = [f for f in result.Faces if abs(f.CenterOfMass.x - (SIZE + 100)) < 1e-9]
+        self.assertEqual(len(end), 1)
+        box = end[0].BoundBox
+        self.assertAlmostEqual(box.YLength, THICK, delta=1e-7)
+        self.assertAlmostEqual(box.ZLength, SIZE, delta=1e-7)
+
+
 class BaseOnlyReadTest(unittest.TestCase):
     """Stretch, Bend and Twist of the holed plate leave the Base as it was, to the byte of
     its BREP text (tolerances, curves on faces, geometry): the ops work on copies of its

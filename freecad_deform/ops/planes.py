@@ -96,14 +96,17 @@ def lofted_join(near, cut, profiles, far, far_plane, end, joints, prop):
     """One solid from the near pieces, the loft through `profiles` (from the near part's
     `cut` faces to the far part's section at `far_plane`, moved by `end`) and the far
     pieces: their faces sewn, the cut faces left out."""
-    moved = brep.transformed(far, end)
+    import Part
+    moved = brep.transformed(far, end)  # the same faces in the same order, moved
     brep.check_apart(near, moved, prop, joints[0])  # the near pieces lie behind Plane
     far_cut = brep.faces_on_plane(far, *far_plane)
+    sides = brep.loft_sides(profiles, prop)
     faces = ([f for s in near for f in s.Faces if not any(f.isSame(c) for c in cut)]
-             + brep.loft_sides(profiles, prop)
-             + brep.transformed([f for s in far for f in s.Faces
-                                 if not any(f.isSame(c) for c in far_cut)], end))
-    return brep.join_faces(faces, joints, prop)
+             + sides
+             + [g for s, t in zip(far, moved) for f, g in zip(s.Faces, t.Faces)
+                if not any(f.isSame(c) for c in far_cut)])
+    return brep.glue(near + [Part.makeCompound(sides)] + moved, faces, joints) or \
+        brep.join_faces(faces, joints, prop)
 
 
 def sections(solids, origin, normal, offsets):

@@ -404,6 +404,14 @@ def join(solids, joints, prop="Plane"):
     return solid
 
 
+def glue(pieces, faces, joints):
+    """The pieces joined into one solid of `faces` where they meet at the (origin, normal)
+    `joints`, merged there and checked (see _glued), or None: for pieces whose faces at
+    the joints are known, e.g. a loft's sides (a compound of faces, not a first piece)
+    between the near and far parts."""
+    return _glued(pieces, faces, on_planes(joints))
+
+
 def _unshared_faces(solids, on_surface):
     """The faces of the pieces but those on a joint that another piece also has there
     (same centre of mass and area, to 1e-9 of the pieces' size). With joint planes only
@@ -452,7 +460,7 @@ def _glued(solids, faces, on_surface):
     orientation: an edge they share has opposite orientations in its two faces, and an edge
     they share with the rest the one it had before.
     """
-    if any(len(s.Shells) != 1 for s in solids):
+    if any(s.ShapeType == "Solid" and len(s.Shells) != 1 for s in solids):
         return None
     keep = {f.hashCode() for f in faces}
     joint = set().union(*(joint_vertices(s, on_surface) for s in solids))
