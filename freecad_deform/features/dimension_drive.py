@@ -57,8 +57,10 @@ class DimensionDrive(DeformFeature):
              "Triangles whose normals turn by more than this are in different regions.",
              DEFAULT_FEATURE_ANGLE),
         Prop("App::PropertyLength", "HandleTolerance", "Handle",
-             "How far the simplified mesh that shapes the handle may deviate from the mesh; "
-             "coarser spreads the change wider. 0: 0.5 % of the mesh size.", 0.0),
+             "How far the simplified mesh that shapes the handle may deviate from the mesh "
+             "(its outlines and flat regions within this, its curved regions within 3 times "
+             "it, 1.5 times in the mean square); coarser spreads the change wider. 0: 0.5 % "
+             "of the mesh size.", 0.0),
         Prop("App::PropertyLength", "Tolerance", "Handle",
              "Tessellation tolerance when Base is a solid.", 0.1),
         Prop("App::PropertyBool", "Rehandle", "Handle",

@@ -38,7 +38,8 @@ class Handle(NamedTuple):
         return self.weights @ moves
 
 
-def _segment_distance(x, a, b):
+def segment_distance(x, a, b):
+    """Distance from points x (..., 3) to the segments ab (broadcast against x)."""
     ab = b - a
     t = np.clip(np.einsum("...k,...k", x - a, ab) / np.maximum(np.einsum("...k,...k", ab, ab),
                                                              1e-300), 0.0, 1.0)
@@ -56,8 +57,8 @@ def triangle_fit(x, A, B, C, n):
                     np.einsum("...k,...k", np.cross(A - C, q - C), n),
                     np.einsum("...k,...k", np.cross(B - A, q - A), n)], -1) / area[..., None]
     inside = (lam.min(-1) >= 0) & ~flat
-    edge = np.minimum(np.minimum(_segment_distance(x, A, B), _segment_distance(x, B, C)),
-                      _segment_distance(x, C, A))
+    edge = np.minimum(np.minimum(segment_distance(x, A, B), segment_distance(x, B, C)),
+                      segment_distance(x, C, A))
     return np.where(inside, np.abs(h), edge), lam
 
 
@@ -160,7 +161,7 @@ def build_handle(vertices, triangles, labels, planar, simplified):
         elements = np.nonzero((EL.min(1) == a) & (EL.max(1) == b))[0]
         if len(elements):
             edge_of[group] = _best(V[group], elements, (Ea + Eb) / 2,
-                                   lambda x, c: _segment_distance(x, Ea[c], Eb[c]))
+                                   lambda x, c: segment_distance(x, Ea[c], Eb[c]))
     # ... any other to the nearest simplified triangle of its (lowest) region ...
     rest = free[edge_of[free] < 0]
     tri_of = np.full(n, -1)

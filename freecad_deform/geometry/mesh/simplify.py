@@ -17,7 +17,7 @@ from scipy.sparse import csr_matrix, diags
 from scipy.sparse.linalg import spsolve
 from scipy.spatial import cKDTree
 
-from .dimension_handle import triangle_fit
+from .dimension_handle import segment_distance, triangle_fit
 from ..vectors import unit
 
 INTERIOR, LINE, CORNER = 0, 1, 2
@@ -602,7 +602,7 @@ class _Outlines:
             for lo, hi in ((0, far), (far, len(loop))):
                 mask[lo:hi + 1] |= _douglas_peucker(self.V[chain[lo:hi + 1]], self.tol)
             if np.count_nonzero(mask[:-1]) < 3:
-                d = _segment_distances(P, P[0], P[far])
+                d = segment_distance(P, P[0], P[far])
                 d[[0, far]] = -1
                 mask[int(np.argmax(d))] = True
             keep[np.array(loop)[mask[:-1]]] = True
@@ -875,12 +875,6 @@ def _locate(points, tris):
     return where, best
 
 
-def _segment_distances(P, a, b):
-    ab = b - a
-    t = np.clip((P - a) @ ab / max(ab @ ab, 1e-300), 0.0, 1.0)
-    return np.linalg.norm(P - a - t[:, None] * ab, axis=1)
-
-
 def _douglas_peucker(P, tol):
     """Which points of the polyline P (k, 3) Douglas-Peucker keeps within `tol` (both ends)."""
     keep = np.zeros(len(P), bool)
@@ -890,7 +884,7 @@ def _douglas_peucker(P, tol):
         i, j = todo.pop()
         if j - i < 2:
             continue
-        d = _segment_distances(P[i + 1:j], P[i], P[j])
+        d = segment_distance(P[i + 1:j], P[i], P[j])
         k = int(np.argmax(d))
         if d[k] > tol:
             keep[i + 1 + k] = True
