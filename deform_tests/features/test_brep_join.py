@@ -217,6 +217,24 @@ class BaseOnlyReadTest(unittest.TestCase):
             self.assertTrue(result.isValid(), name)
             self.assertEqual(self.base.exportBrepToString(), self.text, f"{name} changed the Base")
 
+    def test_ops_leave_a_bspline_base(self):
+        """The same for Stretch, Bend, Twist and Taper of a cylinder whose faces are
+        B-splines (toNurbs): the region between two planes goes through the space maps."""
+        from freecad_deform.ops import bend, taper, twist
+        base = Part.makeCylinder(10, 60, V(0, 0, 0), V(1, 0, 0)).toNurbs()
+        text = base.exportBrepToString()
+        o, o2, y = np.array([20.0, 0, 0]), np.array([40.0, 0, 0]), np.array([0, 1.0, 0])
+        runs = {
+            "stretch": lambda: stretch.stretch_shape(base, o, NORMAL, 5.0, gap=20.0),
+            "bend": lambda: bend.bend_shape(base, o2, NORMAL, np.radians(20),
+                                            o2 + [0, 0, -30], y),
+            "twist": lambda: twist.twist_shape(base, o, NORMAL, 20.0, np.radians(30),
+                                               np.zeros(3), NORMAL),
+            "taper": lambda: taper.solid(base, o, NORMAL, 20.0, 0.8, np.eye(3)[[1, 2, 0]])[0]}
+        for name, run in runs.items():
+            result = run()
+            self.assertTrue(result.isValid(), name)
+            self.assertEqual(base.exportBrepToString(), text, f"{name} changed the Base")
 
 if __name__ == "__main__":
     unittest.main()
