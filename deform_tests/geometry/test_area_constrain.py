@@ -14,7 +14,7 @@ from freecad_deform.geometry.nurbs import area_constrain as ac
 from freecad_deform.geometry.nurbs.bspline_area import quadrature
 from freecad_deform.geometry.errors import DeformError
 
-from ..oracles.nurbs import canopy, cylinder_patch, hood, own_area
+from ..oracles.nurbs import canopy, cylinder_patch, hood, own_area, own_cell_areas
 from ..oracles.nurbs import converged_area
 
 
@@ -300,3 +300,26 @@ def test_a_large_face_s_cells_sum_to_its_area_within_fixed_rtol():
     assert error.sum() <= bspline_area.FIXED_RTOL * exact
     assert bspline_area.tensor_cell_areas(s, 40).sum() == pytest.approx(
         own_area(s, nodes=40), rel=1e-13)
+
+
+def test_a_non_square_face_s_fixed_cells_are_each_its_own_cell_s_area():
+    """fixed_cells per cell, in `cells` order (u-major), on 31 x 19 poles with uneven knots
+    along v and degrees 3 x 2, rough heights: each cell within FIXED_RTOL of the face's area
+    of the test's own 60-node integral of that cell (a transposed or mis-ordered grid is
+    off by whole cells), and the errors it reports bound the actual ones in sum."""
+    from freecad_deform.geometry.nurbs import bspline_area
+    from freecad_deform.geometry.nurbs.bspline_area import Surface
+    s = canopy(31, 19, size=(120.0, 50.0))
+    inner = np.cumsum(np.linspace(1, 3, 17))
+    vknots = np.r_[0.0, 0.0, 0.0, inner[:-1] / inner[-1], 1.0, 1.0, 1.0]
+    P = s.poles.copy()
+    P[..., 2] += 10 * np.random.default_rng(1).random(P.shape[:2])
+    s = Surface(P, s.weights, s.uknots, vknots, 3, 2)
+    own = own_cell_areas(s)
+    assert own.shape == (28, 17)
+    bspline_area._FIXED_CELLS.clear()
+    value, error = bspline_area.fixed_cells(s)
+    total = own.sum()
+    assert np.max(np.abs(value - own.ravel())) <= bspline_area.FIXED_RTOL * total
+    assert np.abs(value - own.ravel()).sum() <= error.sum() + 1e-13 * total
+    assert own.sum() == pytest.approx(own_area(s, nodes=60), rel=1e-14)

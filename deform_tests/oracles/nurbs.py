@@ -69,14 +69,32 @@ def own_area(s, poles=None, nodes=40, toward=None, levels=60):
             (half[:, None] * w).ravel()
     u, wu = grid(s.uknots, None if toward is None else toward[0])
     v, wv = grid(s.vknots, None if toward is None else toward[1])
+    return float(wv @ _area_element(s, P, u, v) @ wu)
+
+
+def own_cell_areas(s, nodes=60):
+    """The area of every knot-span cell (cells_u, cells_v), as own_area integrates it."""
+    x, w = np.polynomial.legendre.leggauss(nodes)
+
+    def grid(knots):
+        k = np.unique(knots)
+        half = np.diff(k) / 2
+        return ((k[:-1] + k[1:])[:, None] / 2 + half[:, None] * x).ravel(), half[:, None] * w
+    u, wu = grid(s.uknots)
+    v, wv = grid(s.vknots)
+    f = _area_element(s, s.poles, u, v).reshape(len(wv), nodes, len(wu), nodes)
+    return np.einsum("jbia,ia,jb->ij", f, wu, wv)
+
+
+def _area_element(s, P, u, v):
+    """|S_u x S_v| (len(v), len(u)) from scipy's BSpline on the poles P (non-rational)."""
     su = BSpline(s.uknots, P, s.udegree)                # along u: coefficients (nv, 3) each
     rows, drows = su(u), su.derivative()(u)           # (len(u), nv, 3)
     sv = BSpline(s.vknots, np.moveaxis(rows, 1, 0), s.vdegree)
     dsv = BSpline(s.vknots, np.moveaxis(drows, 1, 0), s.vdegree)
     Su = dsv(v)                                        # (len(v), len(u), 3)
     Sv = sv.derivative()(v)
-    f = np.linalg.norm(np.cross(Su, Sv), axis=2)
-    return float(wv @ f @ wu)
+    return np.linalg.norm(np.cross(Su, Sv), axis=2)
 
 
 def _basis(x, knots, degree):

@@ -745,13 +745,6 @@ class Grid:
             total += float(np.sum(w * _norm(_cross(Su, Sv))))
         return total
 
-    def cell_areas(self, poles):
-        """The area of every knot-span cell by this rule (cells_u, cells_v), unmasked."""
-        Y = self._along_v(poles)
-        f = np.concatenate([_norm(_cross(*self._tangents(Y, Bu, dBu)))
-                            for Bu, dBu, _ in self.chunks]) * self.wu[:, None] * self.wv
-        return f.reshape(-1, self.n, len(self.wv) // self.n, self.n).sum((1, 3))
-
     def _pull(self, Bu, dBu, a, b, out):
         """out += sum over the chunk's nodes of dBu^T a B_v + Bu^T b dB_v, per coordinate."""
         for c in range(3):
@@ -802,7 +795,7 @@ class GridQuadrature:
     def __init__(self, surface, per_area, rtol, flagged=None):
         s = surface
         self.surface, self.per_area, self.rtol = s, per_area, rtol
-        coarse, fine = (Grid(s, n).cell_areas(s.poles) for n in self.GRID)
+        coarse, fine = (tensor_cell_areas(s, n) for n in self.GRID)
         every = cells(s)
         size = ((every.u1 - every.u0) * (every.v1 - every.v0)).reshape(coarse.shape)
         bad = np.abs(fine - coarse) > np.maximum(per_area * size, rtol * np.abs(fine))
