@@ -616,9 +616,11 @@ def _merged_at_joints(solid, on_surface, many_wires=8):
     gone = [f for f in touched if f.hashCode() not in after]
     new = [f for f in merged if f.hashCode() not in before]
     out = _replaced(solid, gone, new) if gone and new else solid  # else nothing merged
-    if out is None or out.ShapeType != "Solid" or len(out.Faces) != len(solid.Faces) - len(gone) + len(
-            new) or not _valid_faces(merged, meets, many_wires) or not _manifold(
-            merged, meets) or not _shells_valid(out):
+    if out is None or out.ShapeType != "Solid" or \
+            len(out.Faces) != len(solid.Faces) - len(gone) + len(new):
+        return None
+    if not (_valid_faces(merged, meets, many_wires) and _manifold(merged, meets)
+            and _shells_valid(out)):
         return None
     return out
 
@@ -718,9 +720,9 @@ def _connected(shell):
     from scipy.sparse.csgraph import connected_components
     pairs = np.array([(i, e.hashCode()) for i, f in enumerate(shell.Faces) for e in f.Edges])
     _, edge = np.unique(pairs[:, 1], return_inverse=True)
-    count = int(pairs[:, 0].max()) + 1 + int(edge.max()) + 1
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 0].max() + 1 + edge)),
-                       shape=(count, count))
+    faces = len(shell.Faces)
+    count = faces + int(edge.max()) + 1
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], faces + edge)), shape=(count, count))
     return connected_components(graph, directed=False)[0] == 1
 
 
