@@ -54,6 +54,54 @@ class PlaneOps(unittest.TestCase):
         self.assertAlmostEqual(result.Volume, 6000.0 + SECTION * 6.0, delta=1e-7)
         self.assertEqual(out["MaxDeviation"], 0.0)
 
+    def test_stretch_volume_change_is_what_occt_measures(self):
+        """VolumeChange comes from the cut area (or the slab left out) on the plain paths and
+        from the result's volume through the stretch map; on every path it must be what OCCT
+        measures of the result against the Base."""
+        part = Part.makeCylinder(4, 30).fuse(Part.makeBox(10, 20, 8, V(-5, -10, 0)))
+        part = part.cut(Part.makeCylinder(1.5, 30, V(0, 6, 0))).removeSplitter()
+        far = Part.makeBox(5, 5, 5, V(30, 0, 40))  # one solid on the near side only
+        shell = Part.Shell(Part.makeSphere(3, V(0, 0, 20)).Faces).reversed()
+        cases = (("stretch", part, 12.0, None, 5.0), ("shrink", part, 12.0, None, -6.0),
+                 ("stretch into the box", part, 4.0, None, 7.0),
+                 ("shrink across the step", part, 4.0, None, -6.0),
+                 ("prismatic region", part, 12.0, 10.0, 5.0),
+                 ("mapped region", part, 4.0, 10.0, 5.0),
+                 ("mapped region shrunk", part, 4.0, 10.0, -3.0),
+                 ("compound, one solid missed", Part.makeCompound([part, far]), 12.0, None, 5.0),
+                 ("reversed sphere", Part.Solid(shell), 20.0, None, 4.0))
+        for name, base, z, gap, distance in cases:
+            with self.subTest(name):
+                result, out = stretch.solid(base, np.array([0.0, 0, z]), Z, distance, gap)
+                self.assertTrue(result.isValid())
+                occt = (sum(abs(s.Volume) for s in result.Solids)
+                        - sum(abs(s.Volume) for s in base.Solids))
+                self.assertAlmostEqual(out["VolumeChange"], occt, delta=1e-6 * abs(occt))
+                self.assertGreater(abs(occt), 1.0)
+
+    def test_stretch_report_follows_the_base_and_planes(self):
+        """The continuity report is remembered per Base and planes: another plane, another
+        Base or a moved Base must give the report a fresh computation gives."""
+        box, bigger = Part.makeBox(10, 20, 30), Part.makeCylinder(5, 30)
+        moved = box.rotated(V(0, 0, 0), V(1, 0, 0), 90)  # the same faces, placed anew
+        fresh = {}
+        for name, base, z in (("box", box, 10.0), ("cylinder", bigger, 10.0),
+                              ("box at 20", box, 20.0), ("moved box", moved, 10.0)):
+            stretch.pp._REPORTS.clear()
+            fresh[name] = stretch.solid(base, np.array([0.0, 0, z]), Z, 3.0)[1]
+        for name, base, z in (("box", box, 10.0), ("cylinder", bigger, 10.0),
+                              ("box at 20", box, 20.0), ("moved box", moved, 10.0),
+                              ("box", box, 10.0)):
+            with self.subTest(name):
+                out = stretch.solid(base, np.array([0.0, 0, z]), Z, 7.0)[1]
+                self.assertEqual(out["Continuity"], fresh[name]["Continuity"])
+                self.assertEqual(list(out["SplitFaces"]), list(fresh[name]["SplitFaces"]))
+        self.assertEqual(len(fresh["cylinder"]["SplitFaces"]), 1)
+        self.assertEqual(len(fresh["box"]["SplitFaces"]), 4)
+        self.assertEqual(list(fresh["box"]["SplitFaces"]), ["Face1", "Face2", "Face3", "Face4"])
+        self.assertEqual(list(fresh["moved box"]["SplitFaces"]),
+                         ["Face1", "Face2", "Face5", "Face6"])
+
     def test_stretch_mesh_and_cloud(self):
         mesh = Mesh.Mesh(self.box.tessellate(1.0))
         result, out = stretch.mesh(mesh, AT_10, Z, 5.0)

@@ -35,14 +35,27 @@ def deform_shape(shape, origin, normal, gap, solid_fn, loose_fn):
     return out[0] if len(out) == 1 else Part.makeCompound(out)
 
 
-def joint_report(shape, joints):
+_REPORTS = []  # (shape, key, report) of recent joint reports, most recently used last
+
+
+def joint_report(shape, joints, key=None):
     """Output values for the faces that the planes cut.
 
     `joints` are (origin, normal, tangents[, keep]) with tangents(points) the trajectory
     tangents of the joint points and keep(points) an optional mask of the points that lie
     on the joint (a segment of a Polyline's surface); a face is G1 only if it is G1 at every
-    joint it crosses.
+    joint it crosses. A hashable `key` that fixes the joints (tangents too) has the report
+    remembered for the last few shapes: it depends on the Base and the planes alone, so a
+    Distance edit need not slice the Base again.
     """
+    if key is not None:
+        for entry in _REPORTS:
+            if entry[1] == key and entry[0].isEqual(shape):
+                return {**entry[2], "SplitFaces": list(entry[2]["SplitFaces"])}
+        report = joint_report(shape, joints)
+        _REPORTS.append((shape, key, report))  # holding the shape keeps its identity unique
+        del _REPORTS[:-8]
+        return {**report, "SplitFaces": list(report["SplitFaces"])}
     worst = {}
     for origin, normal, tangents, *keep in joints:
         for name, face, edges in brep.crossing_faces(shape, origin, normal):

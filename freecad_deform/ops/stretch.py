@@ -22,13 +22,13 @@ def solid(shape, origin, normal, distance, gap=None, tolerance=1e-3):
     """(shape, {VolumeChange, Continuity, SplitFaces, MaxDeviation}) of a B-rep stretched
     by `distance` beyond Plane (origin, unit normal), or between Plane and the plane `gap`
     beyond it; `tolerance` bounds the refit faces of a region whose outline changes."""
-    report = {"MaxDeviation": 0.0}
+    report = {"MaxDeviation": 0.0, "VolumeChange": 0.0}
     result = stretch_shape(shape, origin, normal, distance, gap, tolerance, report)
     joints = [(origin, normal, pp.constant(normal))]
     if gap is not None:
         joints.append((origin + gap * normal, normal, pp.constant(normal)))
-    return result, {**pp.volume_change(result, shape), **pp.joint_report(shape, joints),
-                    **report}
+    key = ("translation", tuple(origin), tuple(normal), gap)  # the tangents are the normal
+    return result, {**pp.joint_report(shape, joints, key), **report}
 
 
 def mesh(base, origin, normal, distance, gap=None):
@@ -107,7 +107,7 @@ def stretch_shape(shape, origin, normal, distance, gap=None, tolerance=1e-3, rep
     """The stretched shape: each solid of `shape` split, moved, filled and joined; between
     two planes a region whose outline changes goes through the stretch's space map
     (shapes.mapped, faces refit within `tolerance`; report["MaxDeviation"] their largest
-    deviation)."""
+    deviation; report["VolumeChange"] the material gained, see _stretch_solid)."""
     if gap is not None and gap + distance <= 0:
         raise DeformError(f"Distance {distance:g} would collapse the region between the planes "
                           f"(gap {gap:g}); keep Distance above {-gap:g}.", "Distance")
@@ -119,45 +119,67 @@ def stretch_shape(shape, origin, normal, distance, gap=None, tolerance=1e-3, rep
             report["MaxDeviation"] = max(report.get("MaxDeviation", 0.0), deviation)
         return pieces
 
+    def stretched(solid):
+        result, change = _stretch_solid(solid, origin, normal, distance, gap,
+                                        lambda zones: refit(*mapped.map_solid(
+                                            solid, smap, tolerance, "Tolerance", zones)))
+        if report is not None:
+            if change is None:  # measured: the result's volume less the solid's (remembered)
+                change = (brep.solids_volume(result) if result is not None else 0.0) - \
+                    brep.solids_volume(solid)
+            report["VolumeChange"] = report.get("VolumeChange", 0.0) + change
+        return result
+
     return pp.deform_shape(
-        shape, origin, normal, gap,
-        lambda solid: _stretch_solid(solid, origin, normal, distance, gap,
-                                     lambda zones: refit(*mapped.map_solid(
-                                         solid, smap, tolerance, "Tolerance", zones))),
+        shape, origin, normal, gap, stretched,
         lambda parts: _stretch_loose(parts, origin, normal, distance, gap,
                                      lambda between: refit(*mapped.map_loose(
                                          between, smap, tolerance))))
 
 
 def _stretch_solid(solid, origin, normal, distance, gap, through_map):
-    """One solid stretched (see stretch_shape); None when nothing of it is left.
-    `through_map(zones)` takes the split solid through the stretch map."""
+    """(the solid stretched, or None when nothing of it is left; the volume it gains).
+    `through_map(zones)` takes the split solid through the stretch map.
+
+    The pieces of a split partition the solid, so where the result is made of them and of
+    prisms its gain is exact without measuring the whole result: the prisms' volume (cut
+    area times length) less the pieces left out (measured, a slab is small). A result
+    through the stretch map gives None: it is measured."""
     move = distance * normal
     if distance == 0:
-        return solid.copy()
+        return solid.copy(), 0.0
     if gap is not None:
         zones = brep.split_zones(solid, origin, normal, [0.0, gap])
         near, between, far = zones
         cut = brep.faces_on_plane(near, origin, normal)
         if not between or (cut and brep.is_prismatic(between, origin, normal, gap)):
             middle = brep.extruded(cut, (gap + distance) * normal) if between else []
+            change = _area(cut) * (gap + distance) - _volume(between) if between else 0.0
             return _joined(near + middle + brep.translated(far, move),
-                           [(origin, normal), (origin + (gap + distance) * normal, normal)])
+                           [(origin, normal), (origin + (gap + distance) * normal, normal)]), change
         # planes stay planes and cylinders along the normal stay themselves; other faces
         # are refit (OCCT's own affine transform approximates circles to about 1e-3)
-        return through_map(zones)
+        return through_map(zones), None
     if distance > 0:
         near, far = brep.split_zones(solid, origin, normal, [0.0])
         cut = brep.faces_on_plane(near, origin, normal)
         return _joined(near + brep.extruded(cut, move) + brep.translated(far, move),
-                       [(origin, normal), (origin + move, normal)])
+                       [(origin, normal), (origin + move, normal)]), _area(cut) * distance
     near, slab, far = brep.split_zones(solid, origin, normal, [0.0, -distance])
     if near and slab and not far:
         reach = max(brep.extent(s, origin, normal)[1] for s in slab) - brep.TOL
         raise DeformError(f"Distance {distance:.10g} shrinks past the end of the part, which "
                           f"reaches {reach:.10g} beyond Plane; keep Distance above "
                           f"{-reach:.10g}.", "Distance")
-    return _joined(near + brep.translated(far, move), [(origin, normal)])
+    return _joined(near + brep.translated(far, move), [(origin, normal)]), -_volume(slab)
+
+
+def _area(faces):
+    return sum(f.Area for f in faces)
+
+
+def _volume(solids):
+    return sum(brep.solids_volume(s) for s in solids)
 
 
 def _joined(pieces, joints):
