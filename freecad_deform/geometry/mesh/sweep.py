@@ -10,7 +10,7 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from ..blocks import BLOCK, compress_rows
+from ..blocks import BLOCK, compress_rows, tiled
 from .cut import arrays, placed, seam, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, signed_distance, unit_normal
@@ -155,7 +155,7 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     if gap / samples <= 2 * eps:
         raise DeformError(f"{samples} Samples put the cutting planes closer than the tolerance "
                           f"in a gap of {gap:g}; lower Samples.", "Samples")
-    W, T, f = slab_cut(V, T, o, n, gap, samples, eps, signed_distance(V, o, n))
+    W, T, f = slab_cut(V, T, o, n, gap, samples, eps)
     return move_by_fraction(W, f, motion_of_s, in_place=True), T
 
 
@@ -163,15 +163,15 @@ def move_by_fraction(points, f, motion_of_s, in_place=False):
     """Point i moved by motion_of_s(f[i]), f in [0, 1]; the points with f = 0 returned
     bit-identical (in_place: the points array itself is written and returned).
 
-    A motion with `moved` (twist_motion, bend_motion) turns every point by its own angle,
+    A motion with `shifts` (twist_motion, bend_motion) turns every point by its own angle,
     those at f = 1 included (one rigid transform for them all, to rounding), BLOCK rows at a
-    time on columns: every row of a block is turned (no gather or scatter of the moving
-    ones) and written where f > 0, only the columns the motion changes (a turn about a
-    coordinate axis keeps that one); any other motion goes through its (K, 4, 4)
+    time on columns: every row of a block gets its displacement (no gather or scatter of
+    the moving ones), added where f > 0, only in the columns the motion changes (a turn
+    about a coordinate axis keeps that one); any other motion goes through its (K, 4, 4)
     transforms, one per distinct fraction."""
     P = np.asarray(points, float)
     out = P if in_place else P.copy()
-    if not hasattr(motion_of_s, "moved"):
+    if not hasattr(motion_of_s, "shifts"):
         move = np.flatnonzero(f > 0)
         fractions, which = np.unique(f.take(move), return_inverse=True)   # one per plane
         out[move] = apply_each(fraction_matrices(motion_of_s, fractions)[which.reshape(-1)],
@@ -181,41 +181,49 @@ def move_by_fraction(points, f, motion_of_s, in_place=False):
         fb, o = f[i:i + BLOCK], out[i:i + BLOCK]
         moving = fb > 0
         if moving.any():
-            for k, column in enumerate(motion_of_s.moved(P[i:i + BLOCK], fb)):
-                if column is not None:
-                    np.copyto(o[:, k], column, where=moving)
+            for k, shift in enumerate(motion_of_s.shifts(P[i:i + BLOCK], fb)):
+                if shift is not None:
+                    column = o[:, k]
+                    add = np.add if shift[0] > 0 else np.subtract
+                    add(column, shift[1], out=column, where=moving)
     return out
 
 
-def slab_cut(V, T, o, n, gap, samples, eps, s):
+def slab_cut(V, T, o, n, gap, samples, eps):
     """The mesh cut at the planes s = gap * j / samples, j = 0..samples, all at once.
 
     Returns (vertices, triangles, fractions): fractions[v] is s / gap of vertex v clipped
-    to [0, 1], exactly j / samples for the vertices on plane j. `s` (V's signed distances
-    to the first plane) is written in place. A vertex that is not finite is refused naming
-    Base, planes that miss the part naming Plane or Plane2. Vertices within eps
-    of a plane are snapped onto it; every edge gets one new vertex per plane it crosses
-    (shared by its two triangles, so closed stays closed), and the cut points joined by a
-    section segment shorter than eps are merged. A triangle crossing k planes becomes
-    2k + 1 triangles (2k when its middle vertex lies on a plane): sorted by level, its
-    vertices a <= b <= c, the chain a -> c on one side and a -> b -> c on the other are
-    zipped from a to c, each quadrilateral between two planes split along its shorter
-    diagonal (a triangle crossing one plane, most of them, gets its pieces written
-    directly, the same ones). The cost is linear in the output (no triangle is cut twice). Original
-    vertices keep their indices, new ones are appended; orientation is kept; the
-    triangles crossing no plane are kept as they are, in their order, then the new ones.
+    to [0, 1], exactly j / samples for the vertices on plane j. A vertex that is not
+    finite is refused naming Base, planes that miss the part naming Plane or Plane2.
+    Vertices within eps of a plane are snapped onto it; every edge gets one new vertex per
+    plane it crosses (shared by its two triangles, so closed stays closed), and the cut
+    points joined by a section segment shorter than eps are merged. A triangle crossing k
+    planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane): sorted by
+    level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c on the
+    other are zipped from a to c, each quadrilateral between two planes split along its
+    shorter diagonal (a triangle crossing one plane, most of them, gets its pieces written
+    directly, the same ones). The cost is linear in the output (no triangle is cut
+    twice). Original vertices keep their indices, new ones are appended; orientation is
+    kept; the triangles crossing no plane are kept as they are, in their order, then the
+    new ones.
     Large rows are gathered with take: fancy indexing of rows is about 10x slower.
     """
     N = len(V)
     h = gap / samples
     # per vertex, BLOCK at a time (in the cache), in one pass: the check that it is finite,
-    # the nearest plane j, the vertices within eps of it (snapped), the level u in plane
-    # units (exact on the planes; clipped so that floor/ceil stay integers), its cell
-    # between planes, its place and its fraction; W and fractions get room for the cut
-    # points too (grown below when a cut makes more)
+    # its signed distance s (as planes.signed_distance computes it), the nearest plane j,
+    # the vertices within eps of it (snapped), the level u in plane units (exact on the
+    # planes; clipped so that floor/ceil stay integers), its cell between planes, its
+    # place and its fraction; W and fractions get room for the cut points too (grown
+    # below when a cut makes more)
     room = N + N // 4 + 1024
     W, fractions = np.empty((room, 3)), np.empty(room)
-    u = np.empty(N)
+    s, u = np.empty(N), np.empty(N)
+    ns = np.asarray(n, float)
+    if not abs(ns @ ns - 1.0) <= 1e-15:
+        ns = unit_normal(ns)
+    minus_o = tiled(-o, N)
+    rows = np.empty(min(BLOCK, N) * 3)
     small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
     cell = np.empty(N, small)
     lo, hi = np.inf, -np.inf
@@ -226,22 +234,29 @@ def slab_cut(V, T, o, n, gap, samples, eps, s):
                               "infinity); repair or replace the Base mesh.", "Base")
         end = i + len(v)
         s_i, u_i, w, f_i = s[i:end], u[i:end], W[i:end], fractions[i:end]
+        r = rows[:v.size]
+        np.add(v.reshape(-1), minus_o[:v.size], out=r)
+        np.matmul(r.reshape(-1, 3), ns, out=s_i)
         lo, hi = np.minimum(lo, s_i.min()), np.maximum(hi, s_i.max())  # NaN stays
         j = np.rint(s_i / h)
         np.clip(j, 0, samples, out=j)
         d = s_i - gap * j / samples
-        on = np.flatnonzero(np.abs(d) <= eps)
-        d_on, j_on = d.take(on), j.take(on)
-        s_i[on] -= d_on
+        near = np.abs(d) <= eps
+        on = np.flatnonzero(near) if near.any() else None
+        if on is not None:
+            d_on, j_on = d.take(on), j.take(on)
+            s_i[on] -= d_on
         np.divide(s_i, h, out=u_i)
-        u_i[on] = j_on
+        if on is not None:
+            u_i[on] = j_on
         np.clip(u_i, -1.0, samples + 1.0, out=u_i)
         np.floor(u_i, out=cell[i:i + BLOCK], casting="unsafe")
         w[...] = v
-        w[on] -= d_on[:, None] * n
         np.divide(s_i, gap, out=f_i)
         np.clip(f_i, 0.0, 1.0, out=f_i)
-        f_i[on] = j_on / samples
+        if on is not None:
+            w[on] -= d_on[:, None] * n
+            f_i[on] = j_on / samples
     ends = np.array([lo, hi])
     if not N:
         raise DeformError("The Base mesh has no vertices; give Base a mesh with triangles.",
@@ -281,8 +296,7 @@ def slab_cut(V, T, o, n, gap, samples, eps, s):
     counts = np.concatenate([n_ab, n_bc, n_ac])
     crossing = np.flatnonzero(counts)
     lo_x, hi_x = lo.take(crossing), hi.take(crossing)
-    keys, inv = np.unique(np.minimum(lo_x, hi_x) * N + np.maximum(lo_x, hi_x),
-                          return_inverse=True)
+    keys, inv = _unique_inverse(np.minimum(lo_x, hi_x) * N + np.maximum(lo_x, hi_x), N * N)
     m = len(a)
     e_of = np.full(3 * m, -1)
     e_of[crossing] = inv.reshape(-1)
@@ -341,15 +355,19 @@ def slab_cut(V, T, o, n, gap, samples, eps, s):
     bc = np.flatnonzero(lower)
     q[ab] = point(e_ab.take(t1.take(ab)), j.take(ab))
     q[bc] = point(e_bc.take(t1.take(bc)), j.take(bc))
-    new[(offset.take(t1)[:, None] + np.arange(3)).reshape(-1)] = _one_plane(
+    new.reshape(-1)[((3 * offset.take(t1))[:, None] + np.arange(9)).reshape(-1)] = _one_plane(
         W, a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j), lower,
-        ub.take(t1) == uc.take(t1), odd.take(t1))
+        ub.take(t1) == uc.take(t1), odd.take(t1)).reshape(-1)  # flat: 1-D scatters are faster
     if len(tz):
         owner, i = _ranges(count.take(tz))
         new[offset.take(tz).take(owner) + i] = _zipped(
             W, point, *(x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc,
                                               f_ac, n_ac, e_ab, e_bc, e_ac)))
     new = without_flat(new)
+    # the per-vertex arrays freed before the result is allocated: a lower peak lets the
+    # allocator keep the freed memory for the next call (with them alive, a repeated call
+    # took ~11,000 fresh pages, 20 to 30 ms of system time; after it, none)
+    del s, u, cell
     kept = len(T) - len(rows)                 # the triangles crossing no plane, then the new
     out = np.empty((kept + len(new), 3), np.int64)
     keep = np.ones(len(T), bool)
@@ -506,6 +524,27 @@ def _merge_segments(P, segments, eps):
     return P[keep], (np.cumsum(keep) - 1)[target]
 
 
+def _unique_inverse(keys, bound):
+    """np.unique(keys, return_inverse=True) for int64 keys in [0, bound): when they fit,
+    each key shifted left and its index put in the low bits, and those sorted (a plain sort
+    of keys that come in runs, as an edge list does, is about twice as fast as the argsort
+    np.unique makes)."""
+    m = len(keys)
+    shift = max(m - 1, 1).bit_length()
+    if not m or (int(bound) - 1).bit_length() + shift > 62:
+        return np.unique(keys, return_inverse=True)
+    packed = keys << shift
+    packed |= np.arange(m)
+    packed.sort(kind="stable")
+    ordered = packed >> shift
+    first = np.empty(m, bool)
+    first[0] = True
+    np.not_equal(ordered[1:], ordered[:-1], out=first[1:])
+    inverse = np.empty(m, np.int64)
+    inverse[packed & ((1 << shift) - 1)] = np.cumsum(first) - 1
+    return ordered[first], inverse
+
+
 def _planes_between(lo, hi, samples):
     """(first, count) of the planes j = 0..samples strictly between the levels lo <= hi."""
     first = np.floor(lo).astype(np.int64) + 1
@@ -530,45 +569,60 @@ def _check_gap(gap):
 
 def _vectorized(fn, point, direction, angle, shift=None):
     """Mark fn (fraction -> rotation(point, direction, fraction * angle) @
-    translation(-fraction * shift)) as taking arrays, and give it `moved(points, fracs)`:
-    the columns (x, y, z) of the points (K, 3) each moved by fn(fracs[i]), without 4x4s.
+    translation(-fraction * shift)) as taking arrays, and give it `shifts(points, fracs)`:
+    the displacement of each column (x, y, z) of the points (K, 3) by fn(fracs[i]),
+    without 4x4s.
 
-    With Q = p - f shift and r = Q - point, column i is Q_i + sum_j (sin(phi) A_ij +
-    (1 - cos(phi)) B_ij) r_j, A = [k]x and B = [k]x^2 = k k^T - I (Rodrigues), on float
-    columns (contiguous 1-D passes; a (K, 3) array times a (K, 1) one is 3x slower), the
-    zero terms left out: about a coordinate axis, two terms per column. A column the
-    motion leaves alone (the axis's, about a coordinate axis without shift) is None."""
+    With Q = p - f shift and r = Q - point, column i moves by -f shift_i + sum_j (sin(phi)
+    A_ij + (1 - cos(phi)) B_ij) r_j, A = [k]x and B = [k]x^2 = k k^T - I (Rodrigues), on
+    float columns (contiguous 1-D passes; a (K, 3) array times a (K, 1) one is 3x slower),
+    the zero terms left out: about a coordinate axis, two terms per column. Each column's
+    displacement is (sign, x): the sum is sign * x, so that +-1 coefficients need no
+    product; a column the motion leaves alone (the axis's, about a coordinate axis without
+    shift) is None."""
     c = np.asarray(point, float).reshape(3)
     k = unit(direction, "Axis").reshape(3)
     d = np.zeros(3) if shift is None else np.asarray(shift, float).reshape(3)
     A, B = skew(k), np.outer(k, k) - np.eye(3)
-    terms = [[(j, A[i, j], B[i, j]) for j in range(3) if A[i, j] or B[i, j]] for i in range(3)]
-    used = sorted({j for row in terms for j, _, _ in row})
-    kept = [not terms[i] and not d[i] for i in range(3)]
+    # per column: (coefficient, base, j) of each term, base 0 sin, 1 versine, 2 f (r_j unused)
+    terms = [[(coefficient, base, j) for j in range(3)
+              for coefficient, base in ((A[i, j], 0), (B[i, j], 1)) if coefficient]
+             + ([(-d[i], 2, None)] if d[i] else []) for i in range(3)]
+    used = sorted({j for row in terms for _, base, j in row if base < 2})
 
-    def moved(points, fracs):
+    def shifts(points, fracs):
         f = np.asarray(fracs, float)
         P = np.asarray(points, float)
-        Q = [P[:, i] - f * d[i] if d[i] else P[:, i] for i in range(3)]
-        r = {j: Q[j] - c[j] for j in used}
+        r = {}
+        for j in used:
+            r[j] = P[:, j] - f * d[j] if d[j] else P[:, j] - c[j]
+            if d[j]:
+                r[j] -= c[j]
         phi = f * angle
-        sin, vers = np.sin(phi), 1.0 - np.cos(phi)
+        bases = (np.sin(phi), 1.0 - np.cos(phi), f)
+
+        def product(scale, base, j):      # scale * base * r_j without the sign of a +-1
+            if j is None:
+                return scale * bases[base]
+            return bases[base] * r[j] if abs(scale) == 1 else (scale * bases[base]) * r[j]
+
         out = []
-        for i in range(3):
-            x = None if kept[i] else np.array(Q[i])
-            for j, a, b in terms[i]:
-                for coefficient, base in ((a, sin), (b, vers)):
-                    if coefficient == 1:          # +-1 without a product
-                        x += base * r[j]
-                    elif coefficient == -1:
-                        x -= base * r[j]
-                    elif coefficient:
-                        x += (coefficient * base) * r[j]
-            out.append(x)
+        for row in terms:
+            sign, x = (1.0 if row and row[0][0] > 0 else -1.0), None
+            for coefficient, base, j in row:     # the first term's scale is positive
+                scale = coefficient * sign
+                term = product(scale, base, j)
+                if x is None:
+                    x = term
+                elif scale == -1 and j is not None:
+                    x -= term
+                else:
+                    x += term
+            out.append(None if x is None else (sign, x))
         return out
 
     fn.vectorized = True
-    fn.moved = moved
+    fn.shifts = shifts
     return fn
 
 
