@@ -206,7 +206,7 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     twice). Original vertices keep their indices, new ones are appended; orientation is
     kept; the triangles crossing no plane are kept as they are, in their order, then the
     new ones.
-    Large rows are gathered with take: fancy indexing of rows is about 10x slower.
+    Large rows are gathered with take: fancy or boolean indexing of rows is 3 to 10x slower.
     """
     N = len(V)
     h = gap / samples
@@ -329,7 +329,7 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     ubt = ub.take(t)
     short = np.where(jj < ubt, raw(np.maximum(e_ab.take(t), 0), jj),   # (-1: the edge crosses
                      raw(np.maximum(e_bc.take(t), 0), jj))             # none; not chosen)
-    seg = np.stack([raw(e_ac.take(t), jj), short], 1)[jj != ubt]
+    seg = np.stack([raw(e_ac.take(t), jj), short], 1).take(np.flatnonzero(jj != ubt), axis=0)
     P, label = _merge_segments(P, seg, eps)
     K = len(P)
     if N + K > room:                          # more cut points than room for them
@@ -521,7 +521,7 @@ def _merge_segments(P, segments, eps):
     target = np.arange(len(P))
     target[nodes] = first[chain]
     keep = target == np.arange(len(P))
-    return P[keep], (np.cumsum(keep) - 1)[target]
+    return P.take(np.flatnonzero(keep), axis=0), (np.cumsum(keep) - 1)[target]
 
 
 def _unique_inverse(keys, bound):
