@@ -12,8 +12,8 @@ from freecad_deform.geometry import DeformError
 from ..oracles import mesh as oracles
 from ..oracles.mesh import blob, volume
 from freecad_deform.geometry.mesh.stretch import stretch_mesh
-from freecad_deform.geometry.mesh.sweep import (bend_motion, map_between, sweep_mesh,
-                                                twist_motion)
+from freecad_deform.geometry.mesh.sweep import (bend_motion, map_between, move_by_fraction,
+                                                sweep_mesh, twist_motion)
 from freecad_deform.geometry.sweep.motion import KeyMotion, ScrewMotion, rotation, translation
 
 Z = np.array([0.0, 0.0, 1.0])
@@ -303,6 +303,31 @@ def test_bend_motion_formula():
             f(frac), rotation(BEND_C, BEND_K, frac * 0.7) @ translation(-frac * 1.1 * Z),
             atol=1e-15)
     np.testing.assert_allclose(f(np.array([0.3, 1.0]))[1], f(1.0), atol=1e-15)
+
+
+@pytest.mark.parametrize("motion", [
+    twist_motion([0, 0, 1.0], Z, 2.0, 1.3, [0.4, -0.2, 0], Z),
+    twist_motion([0, 0, 1.0], Z, 2.0, -0.8, [0.4, -0.2, 0], [0.2, -0.3, 1.0]),
+    bend_motion(BEND_C, BEND_K, 0.7, [0, 0, BEND_Z], Z, 1.1)])
+def test_move_by_fraction_keeps_rows_at_zero_bit_for_bit(motion):
+    """Rows with f = 0 (f > 0 at random among them, as in a cloud) keep their bits, signed
+    zeros and a coordinate at infinity included; the others go where their own 4x4 takes
+    them."""
+    rng = np.random.default_rng(7)
+    P = rng.normal(size=(40000, 3))
+    for k, share in enumerate((0.2, 0.3, 0.3)):
+        P[rng.random(len(P)) < share, k] = (-0.0, 0.0, -0.0)[k]
+    f = np.clip(rng.normal(size=len(P)), 0.0, 1.0)
+    f[rng.random(len(P)) < 0.1] = -0.0
+    P[7, 1], f[7] = np.inf, 0.0
+    with np.errstate(invalid="ignore"):                     # infinity times 0
+        out = move_by_fraction(P, f, motion)
+    still = f <= 0
+    assert np.array_equal(out[still].view(np.uint64), P[still].view(np.uint64))
+    moved = np.flatnonzero(~still)
+    M = motion(f[moved])
+    expected = np.einsum("kij,kj->ki", M[:, :3, :3], P[moved]) + M[:, :3, 3]
+    np.testing.assert_allclose(out[moved], expected, rtol=0, atol=1e-14)
 
 
 # ---------------------------------------------------------------- errors
