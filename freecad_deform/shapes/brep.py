@@ -253,11 +253,13 @@ def split_by(solid, tools, offset, offsets):
     pieces, _ = solid.generalFuse(tools)
     zones = [[] for _ in range(len(offsets) + 1)]
     for piece in pieces.Solids:
-        pts = np.array([tuple(v.Point) for v in piece.Vertexes]
-                       + [tuple(e.valueAt(0.5 * (e.FirstParameter + e.LastParameter)))
-                          for e in piece.Edges])
-        s = offset(pts)
+        s = offset(np.array([tuple(v.Point) for v in piece.Vertexes]).reshape(-1, 3))
         off = np.min(np.abs(s[:, None] - np.asarray(offsets)[None, :]), axis=1) > TOL
+        if not off.any():  # the edge midpoints only where no vertex is off the tools
+            s = np.r_[s, offset(np.array(
+                [tuple(e.valueAt(0.5 * (e.FirstParameter + e.LastParameter)))
+                 for e in piece.Edges]).reshape(-1, 3))]
+            off = np.min(np.abs(s[:, None] - np.asarray(offsets)[None, :]), axis=1) > TOL
         if off.any():
             probe = s[off][0]
         elif np.ptp(s) > TOL:  # a slab with every vertex and edge on two planes: between them
