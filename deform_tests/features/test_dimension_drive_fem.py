@@ -7,6 +7,7 @@ test), node and element numbers and connectivity read off both FEM meshes, group
 FreeCAD's CalculiX input writer with the written file read back by FreeCAD's .inp reader.
 """
 import os
+import re
 import sys
 import tempfile
 import unittest
@@ -256,7 +257,11 @@ class TestRotor(FemDriveCase):
         self.assertIn("Invalid", obj.State)
         status = obj.getStatusString()
         self.assertIn("Target", status)
-        self.assertRegex(status, r"reachable 97\.[0-9]+ to [0-9.]+")
+        # the outer wall stops short of the inner one (97.5), by how much depends on the
+        # handle: 97.x when the rotor was collapsed whole, 98.2 from its outlines
+        reach = re.search(r"reachable ([0-9.]+) to [0-9.]+", status)
+        self.assertIsNotNone(reach, status)
+        self.assertTrue(97.5 < float(reach.group(1)) < 99, status)
         np.testing.assert_array_equal(nodes_of(base.FemMesh)[1], X)
         obj.Target = 99
         self.doc.recompute()

@@ -23,7 +23,7 @@ from ..vectors import unit
 INTERIOR, LINE, CORNER = 0, 1, 2
 MAX_TURN_COS = 0.5  # a collapse may turn a remaining triangle's normal by less than 60 degrees
 MIN_AREA = 1e-12    # ... and must leave its doubled area above this times the bbox diagonal^2
-CHUNK = 4096       # x 16 point-triangle pairs measured at once by _within (memory)
+CHUNK = 4096       # x 16 point-triangle pairs measured at once by _far (memory)
 
 
 class Simplified(NamedTuple):
@@ -48,10 +48,12 @@ def simplify(vertices, triangles, labels, tolerance) -> Simplified:
     within MAX_FAR tolerances of it (RMS_FAR in the root mean square) and none turns away
     from the region. Curved regions of other
     topology (a tube) are simplified first by quadric edge collapses (_collapsed), and
-    their lines taken from there. A mesh the outline route cannot take (a pinched region,
-    an outline that Douglas-Peucker makes cross itself, two regions spanning the same
-    chord of their line) is collapsed whole. Flat parts
-    of a region are then made Delaunay by edge flips.
+    their lines taken from there. A region the route fails on (a flat outline that does
+    not ear-clip, a curved disk whose map folds) is collapsed on its own inside the lines
+    decided for its neighbours. Every vertex ends within MAX_FAR tolerances of its
+    regions' triangles; a mesh the route cannot take so (a pinched region, two regions
+    spanning the same chord of their line) is collapsed whole. Flat parts of a region are
+    then made Delaunay by edge flips.
     """
     V = np.asarray(vertices, float)
     T = np.asarray(triangles, np.int64).reshape(-1, 3)
@@ -60,17 +62,15 @@ def simplify(vertices, triangles, labels, tolerance) -> Simplified:
         T2, lab2 = _Outlines(V, T, lab, float(tolerance)).run()
     except _Unfit:
         return _collapsed(V, T, lab, float(tolerance))
-    if not _within(V, T, lab, T2, lab2, MAX_FAR * float(tolerance)):
-        return _collapsed(V, T, lab, float(tolerance))
     return Simplified(delaunay_flips(V, T2, lab2), lab2)
 
 
-def _within(V, T, lab, T2, lab2, limit, k=4):
-    """Whether every vertex lies within `limit` of its region's simplified triangles (T2,
-    lab2), in every region it is in: the outline route measures only vertices away from
-    the outlines, and a region collapsed on its own can drop a vertex of its neighbour's
-    outline. A vertex is measured to the k triangles whose centres are nearest, and where
-    those are too far, to all of its region's."""
+def _far(V, T, lab, T2, lab2, limit, k=4):
+    """The labels of the regions with a vertex beyond `limit` of their simplified
+    triangles (T2, lab2), each vertex measured in every region it is in: the outline route
+    measures only vertices away from the outlines, and a region collapsed on its own can
+    drop a vertex of its neighbour's outline. A vertex is measured to the k triangles
+    whose centres are nearest, and where those are too far, to all of its region's."""
     def distances(pts, tris, cand):
         out = np.empty(len(pts))
         rows = max(1, CHUNK * 16 // cand.shape[1])      # (rows, candidates, 3) at a time
@@ -81,20 +81,26 @@ def _within(V, T, lab, T2, lab2, limit, k=4):
                                            unit(np.cross(B - A, C - A)))[0].min(axis=1)
         return out
 
-    for r in np.unique(lab):
-        pts = V[np.unique(T[lab == r])]
-        tris = V[T2[lab2 == r]]
+    far = []
+    regions = np.unique(lab)
+    order, order2 = np.argsort(lab, kind="stable"), np.argsort(lab2, kind="stable")
+    cuts = np.searchsorted(lab[order], regions, side="right")[:-1]
+    cuts2 = np.searchsorted(lab2[order2], regions, side="right")[:-1]
+    for r, mine, simple in zip(regions.tolist(), np.split(order, cuts), np.split(order2, cuts2)):
+        pts = V[np.unique(T[mine])]
+        tris = V[T2[simple[lab2[simple] == r]]]
         if not len(tris):
-            return False
+            far.append(r)
+            continue
         near = cKDTree(tris.mean(axis=1)).query(pts, k=min(k, len(tris)))[1]
-        far = distances(pts, tris, near.reshape(len(pts), -1)) > limit
-        if far.any() and distances(pts[far], tris, np.broadcast_to(
-                np.arange(len(tris)), (int(far.sum()), len(tris)))).max() > limit:
-            return False
-    return True
+        out = distances(pts, tris, near.reshape(len(pts), -1)) > limit
+        if out.any() and distances(pts[out], tris, np.broadcast_to(
+                np.arange(len(tris)), (int(out.sum()), len(tris)))).max() > limit:
+            far.append(r)
+    return far
 
 
-def _collapsed(V, T, lab, tolerance, corners=None) -> Simplified:
+def _collapsed(V, T, lab, tolerance, corners=None, gone=None) -> Simplified:
     """Collapse edges, cheapest first, while the quadric error stays within `tolerance`.
 
     A vertex inside a region may collapse into any neighbour; a vertex on a boundary line
@@ -106,11 +112,12 @@ def _collapsed(V, T, lab, tolerance, corners=None) -> Simplified:
     of squared distances of the surviving vertex to the planes of the original triangles
     merged into it and, for boundary vertices, to the planes through their boundary edges
     perpendicular to the triangles (these keep the lines straight); for a vertex inside a
-    region, the mean per plane. `tolerance` bounds its square root. Triangles keep their
-    orientation and label; after flips, a second round takes what the flips freed.
+    region, the mean per plane. `tolerance` bounds its square root; a line vertex where
+    `gone` (N,) is True costs nothing (its line was decided elsewhere without it). Triangles
+    keep their orientation and label; after flips, a second round takes what the flips freed.
     """
     for _ in range(2):  # flips free collapses the guards refused: one more round
-        mesh = _Collapser(V, T, lab, tolerance, corners)
+        mesh = _Collapser(V, T, lab, tolerance, corners, gone)
         mesh.run()
         T, lab = np.array(mesh.tris, np.int64).reshape(-1, 3)[mesh.alive], lab[mesh.alive]
         T = delaunay_flips(V, T, lab)
@@ -182,11 +189,12 @@ class _Collapser:
     cost would be most of the loop.
     """
 
-    def __init__(self, V, T, lab, tolerance, corners=None):
+    def __init__(self, V, T, lab, tolerance, corners=None, gone=None):
         n = len(V)
         kind, ends, A = _setup(V, T, lab)
         if corners is not None:
             kind[corners] = CORNER
+        self.gone = set() if gone is None else set(np.flatnonzero(gone & (kind == LINE)).tolist())
         self.A = A.reshape(n, 9).tolist()
         self.trace = np.trace(A, axis1=1, axis2=2).tolist()
         self.b, self.c = [[0.0, 0.0, 0.0] for _ in range(n)], [0.0] * n
@@ -235,6 +243,7 @@ class _Collapser:
         trace = np.array(self.trace)
         cost = np.where(np.array(self.kind)[us] == INTERIOR, cost / (trace[us] + trace[vs]),
                         cost)
+        cost[np.isin(us, list(self.gone))] = 0.0
         keep = np.flatnonzero(cost <= self.tol2)
         self.heap = [(c, k + 1, u, v) for k, (c, u, v) in enumerate(zip(
             cost[keep].tolist(), us[keep].tolist(), vs[keep].tolist()))]
@@ -248,6 +257,8 @@ class _Collapser:
         merge and would keep a finely meshed curved region (a cylinder with interior
         vertices) fine, where the handle needs long prisms; boundary lines keep the sum,
         so curved boundaries keep the vertices that make them round."""
+        if u in self.gone:
+            return 0.0
         if self.kind[u] == INTERIOR:
             return self.cost(u, v) / (self.trace[u] + self.trace[v])
         return self.cost(u, v)
@@ -407,6 +418,13 @@ def _should_flip(a, b, c, d, flat):
     on 3-vectors would dominate."""
     n1, n2 = _normal(a, b, c), _normal(b, a, d)
     l1, l2 = _norm(n1), _norm(n2)
+    ab = _sub(b, a)
+    flat_ab = 1e-12 * _dot(ab, ab)
+    if min(l1, l2) <= flat_ab < max(l1, l2):  # one triangle is edge ab with a point on it:
+        n = n2 if l1 < l2 else n1             # the flip covers the other one's area
+        p = c if l1 < l2 else d
+        return (0 < _dot(_sub(p, a), ab) < _dot(ab, ab) and _dot(_normal(a, d, c), n) > 0
+                and _dot(_normal(b, c, d), n) > 0)
     if l1 == 0 or l2 == 0 or _norm(_cross(n1, n2)) > flat * l1 * l2 or _dot(n1, n2) < 0:
         return False
     if _dot(_cross(_sub(d, a), _sub(c, a)), n1) <= 0 or \
@@ -438,21 +456,12 @@ def _cross(p, q):
 FLAT_TURN_COS = 0.5   # a flat region's triangles all face within 60 degrees of its plane
 MAX_FAR, RMS_FAR = 3.0, 1.5  # a curved region's vertices from its triangles (x tolerance)
 RIM_RINGS = 2         # a curved region is measured and refined this many edges off its outline
-MAX_RESTARTS = 3      # rounds of collapsing the regions the outline route failed
 SLOW_SHARE = 0.5      # beyond this share of triangles to collapse, the whole mesh is (cheaper)
 MAX_INSERTS = 16      # rounds of insertion before a curved region is collapsed instead
 
 
 class _Unfit(Exception):
     """The outline route cannot take this mesh (simplify() collapses it whole instead)."""
-
-
-class _Failed(Exception):
-    """Curved regions the harmonic map did not triangulate (they are collapsed instead)."""
-
-    def __init__(self, regions):
-        super().__init__(regions)
-        self.regions = set(regions)
 
 
 class _Outlines:
@@ -506,19 +515,97 @@ class _Outlines:
         return loops
 
     def run(self):
-        """(triangles, labels) of every region; the curved disks the map cannot take are
-        collapsed with the tubes and the lines decided again, at most MAX_RESTARTS times."""
-        failed = set()
-        for _ in range(MAX_RESTARTS + 1):
-            try:
-                return self._run(failed)
-            except _Failed as e:
-                failed |= e.regions
-        raise _Unfit
-
-    def _run(self, failed):
+        """(triangles, labels) of every region, in one pass: the tubes (and the curved
+        disks next to them that fail on lines of their own) collapsed and their lines
+        taken from there, the other lines by Douglas-Peucker, every other region from its
+        outline. A region that fails there, or whose vertices end beyond MAX_FAR
+        tolerances of its triangles (_far), is then collapsed on its own inside its
+        decided outline, whose other vertices go first; a flat or curved neighbour is
+        built again with any of them that stayed. _Unfit (the whole mesh collapsed) when
+        one stays on a tube's line or a region ends too far all the same."""
         V, T, tol = self.V, self.T, self.tol
         K, n = len(self.labels), len(V)
+        flat, disk = self._classes()
+        slow = ~flat & ~disk
+        if slow.any():
+            slow |= self._failing_by_tubes(slow, flat)
+        keep = self.kind == CORNER
+        decided = np.zeros(n, bool)
+        parts = {}
+        if slow.any():
+            mask = slow[self.region]
+            if np.count_nonzero(mask) > SLOW_SHARE * len(T):
+                raise _Unfit                    # little left to gain: collapse it all
+            tris = self._collapsed_alone(mask, keep, decided)
+            keep[np.unique(tris)] = True
+            decided[T[mask]] = True
+            parts.update(self._by_region(tris, mask))
+        for k in range(K):
+            for loop in self.loops[k]:
+                self._lines(loop, keep, decided)
+        failed = []
+        for k in np.flatnonzero(~slow).tolist():
+            try:
+                parts[k] = self._built(k, flat[k], keep)
+            except _Unfit:
+                failed.append(k)
+        built = [k for k in np.flatnonzero(~slow).tolist() if k in parts]
+        failed += self._far(parts, built)
+        check = set(np.flatnonzero(slow).tolist())
+        if failed:
+            for k in failed:
+                parts.pop(k, None)
+            mask = np.isin(self.region, failed)
+            tris = self._collapsed_alone(mask, keep, decided)
+            parts.update(self._by_region(tris, mask))
+            # outline vertices that collapse kept go into the neighbours' outlines
+            extra = np.zeros(n, bool)
+            extra[np.unique(tris)] = True
+            extra &= ~keep
+            keep |= extra
+            for k in set(range(K)) - set(failed):
+                if any(extra[loop].any() for loop in self.loops[k]):
+                    if slow[k]:
+                        raise _Unfit        # a tube's lines stay as its collapse left them
+                    parts[k] = self._built(k, flat[k], keep)
+                    check.add(k)
+            check |= set(failed)
+        if self._far(parts, sorted(check)):
+            raise _Unfit
+        T2 = np.concatenate([parts[k] for k in range(K)]).astype(np.int64)
+        # two regions may each span the same chord of their common line (an ear of three
+        # nearly collinear kept vertices on both sides): an edge then runs twice one way
+        directed = T2.reshape(-1) * n + T2[:, [1, 2, 0]].reshape(-1)
+        if len(np.unique(directed)) < len(directed):
+            raise _Unfit
+        return T2, np.repeat(self.labels, [len(parts[k]) for k in range(K)])
+
+    def _failing_by_tubes(self, slow, flat):
+        """(K,) the curved disks next to a tube (`slow`) that fail on lines of their own
+        (Douglas-Peucker everywhere): they join the tubes' collapse, where collapsing
+        them later could leave their common line with a vertex the tube dropped."""
+        out = np.zeros(len(self.labels), bool)
+        on = np.zeros(len(self.V), bool)
+        on[self.T[slow[self.region]]] = True
+        near = [k for k in np.flatnonzero(~slow & ~flat).tolist()
+                if any(on[loop].any() for loop in self.loops[k])]
+        if not near:
+            return out
+        keep, decided = self.kind == CORNER, np.zeros(len(self.V), bool)
+        for loops in self.loops:
+            for loop in loops:
+                self._lines(loop, keep, decided)
+        for k in near:
+            try:
+                self._built(k, False, keep)
+            except _Unfit:
+                out[k] = True
+        return out
+
+    def _classes(self):
+        """(flat (K,), disk (K,)): the regions ear-clipped, and the curved ones mapped."""
+        V, T, tol = self.V, self.T, self.tol
+        K = len(self.labels)
         flat, disk = np.zeros(K, bool), np.zeros(K, bool)
         self.frames = {}
         for k in range(K):
@@ -536,52 +623,41 @@ class _Outlines:
             edges = (3 * len(tri) + sum(len(loop) for loop in self.loops[k])) // 2
             disk[k] = (len(self.loops[k]) == 1 and len(ids) - edges + len(tri) == 1
                        and len(ids) > len(self.loops[k][0]))   # a vertex inside to refine
-        # curved regions that are no disk (or have no vertex inside): collapsed, and
-        # their lines taken from there
-        slow = ~flat & ~disk
-        slow[list(failed)] = True
-        keep = self.kind == CORNER
-        decided = np.zeros(n, bool)
-        parts = []
-        if slow.any():
-            mask = slow[self.region]
-            if np.count_nonzero(mask) > SLOW_SHARE * len(T):
-                raise _Unfit                    # little left to gain: collapse it all
-            ids, sub = np.unique(T[mask], return_inverse=True)
-            S = _collapsed(V[ids], sub.reshape(-1, 3), self.labels[self.region[mask]], tol,
-                           keep[ids])
-            S = Simplified(ids[S.triangles], S.labels)
-            parts.append(S)
-            on = np.zeros(n, bool)
-            on[T[mask]] = True
-            keep[np.unique(S.triangles)] = True
-            decided |= on
-        for k in range(K):
-            for loop in self.loops[k]:
-                self._lines(loop, keep, decided)
-        failed_now = []
-        for k in np.flatnonzero(~slow):
-            loops = [[v for v in loop if keep[v]] for loop in self.loops[k]]
-            if min(len(loop) for loop in loops) < 3:
-                raise _Unfit
-            if flat[k]:
-                tris = self._flat(k, loops)
-            else:
-                try:
-                    tris = self._curved(k, loops[0])
-                except _Unfit:
-                    failed_now.append(int(k))
-                    continue
-            parts.append(Simplified(tris, np.full(len(tris), self.labels[k])))
-        if failed_now:
-            raise _Failed(failed_now)
-        T2 = np.concatenate([p.triangles for p in parts]).astype(np.int64)
-        # two regions may each span the same chord of their common line (an ear of three
-        # nearly collinear kept vertices on both sides): an edge then runs twice one way
-        directed = T2.reshape(-1) * n + T2[:, [1, 2, 0]].reshape(-1)
-        if len(np.unique(directed)) < len(directed):
+        return flat, disk
+
+    def _collapsed_alone(self, mask, keep, decided):
+        """The triangles (original ids) of the triangles `mask` collapsed on their own,
+        the vertices `keep` staying, the others `decided` (on lines decided before) going
+        first."""
+        V, T = self.V, self.T
+        ids, sub = np.unique(T[mask], return_inverse=True)
+        S = _collapsed(V[ids], sub.reshape(-1, 3), self.labels[self.region[mask]], self.tol,
+                       keep[ids], (decided & ~keep)[ids])
+        self.collapsed_labels = S.labels
+        return ids[S.triangles]
+
+    def _by_region(self, tris, mask):
+        """{region index: its triangles} of triangles `tris` from _collapsed_alone(mask)."""
+        region = np.searchsorted(self.labels, self.collapsed_labels)
+        return {int(k): tris[region == k] for k in np.unique(self.region[mask])}
+
+    def _far(self, parts, regions):
+        """The regions among `regions` with a vertex beyond MAX_FAR tolerances of their
+        triangles in `parts` (see the module's _far)."""
+        if not regions:
+            return []
+        tris = [parts[k] for k in regions]
+        T2 = np.concatenate(tris).astype(np.int64)
+        lab2 = np.repeat(regions, [len(t) for t in tris])
+        mask = np.isin(self.region, regions)
+        return _far(self.V, self.T[mask], self.region[mask], T2, lab2, MAX_FAR * self.tol)
+
+    def _built(self, k, flat, keep):
+        """Region k's triangles from its outline's vertices `keep` (_Unfit if it fails)."""
+        loops = [[v for v in loop if keep[v]] for loop in self.loops[k]]
+        if min(len(loop) for loop in loops) < 3:
             raise _Unfit
-        return T2, np.concatenate([p.labels for p in parts])
+        return self._flat(k, loops) if flat else self._curved(k, loops[0])
 
     def _lines(self, loop, keep, decided):
         """Decide the kept vertices of the lines of one boundary loop (Douglas-Peucker
@@ -709,7 +785,7 @@ class _Outlines:
         # that moves would flip its small triangle early)
         probe = inner[~by_rim[inner]] if np.any(~by_rim[inner]) else inner
         added = np.zeros(m, bool)
-        last = None
+        last, folds_before = None, math.inf
         for _ in range(MAX_INSERTS):
             S = np.array(mesh.T, np.int64)
             A, B, C = X[S[:, 0]], X[S[:, 1]], X[S[:, 2]]
@@ -717,6 +793,12 @@ class _Outlines:
             size = np.linalg.norm(n3, axis=1)
             ref = around[S].sum(axis=1)
             bad = (size <= self.min_area) | (np.einsum("ij,ij->i", n3, ref) <= 0)
+            # folded or flat triangles that a round of insertions did not make fewer only
+            # multiply with more (sh2's, counter's curved disks): collapsed instead
+            folds = int(np.count_nonzero(bad))
+            if folds and folds >= folds_before:
+                raise _Unfit
+            folds_before = folds
             if last is None:
                 where = _locate(uv[probe], uv[S])[0]
             else:       # a point whose triangle changed is in one of the changed ones
@@ -902,12 +984,18 @@ def _cross2(a, b):
 
 
 def _crossing(p, q, A, B):
-    """Whether segment pq properly crosses any of the segments A[i] B[i] (2D)."""
+    """Whether segment pq properly crosses any of the segments A[i] B[i] (2D), or passes
+    through one of their ends A[i] (a bridge along a row of holes' rightmost vertices)."""
     d1 = _cross2(q - p, A - p)
     d2 = _cross2(q - p, B - p)
     d3 = _cross2(B - A, p - A)
     d4 = _cross2(B - A, q - A)
-    return bool(np.any((d1 * d2 < 0) & (d3 * d4 < 0)))
+    if np.any((d1 * d2 < 0) & (d3 * d4 < 0)):
+        return True
+    pq = q - p
+    t = (A - p) @ pq
+    on = (np.abs(d1) <= 1e-12 * (pq @ pq)) & (t > 0) & (t < pq @ pq)
+    return bool(np.any(on & ~np.all(A == p, axis=1) & ~np.all(A == q, axis=1)))
 
 
 def _check_simple(loops):
@@ -932,16 +1020,23 @@ def _inside(p, poly):
 
 def _bridged(ring, pts, hole, hxy, later):
     """The outer ring joined to a hole (its rightmost vertex to the nearest visible ring
-    vertex) by a bridge walked both ways."""
+    vertex) by a bridge walked both ways. The bridge leaves the ring inside the corner it
+    starts from: a vertex an earlier bridge doubled is taken at the copy whose corner holds
+    it (at the other, the ring would cross itself there and ear clipping find no ear)."""
     i = int(np.argmax(hxy[:, 0]))
     M = hxy[i]
     segs = [(pts, np.roll(pts, -1, axis=0)), (hxy, np.roll(hxy, -1, axis=0))]
     segs += [(h, np.roll(h, -1, axis=0)) for h in later]
     A = np.concatenate([s[0] for s in segs])
     B = np.concatenate([s[1] for s in segs])
+    lo = np.array([h.min(axis=0) for h in later]).reshape(-1, 2)
+    hi = np.array([h.max(axis=0) for h in later]).reshape(-1, 2)
     for c in np.argsort(np.linalg.norm(pts - M, axis=1)):
         mid = 0.5 * (pts[c] + M)
-        if _crossing(M, pts[c], A, B) or _inside(mid, hxy) or any(_inside(mid, h) for h in later):
+        boxed = np.flatnonzero(np.all((lo <= mid) & (mid <= hi), axis=1))
+        if not _into_corner(pts[c - 1], pts[c], pts[(c + 1) % len(pts)], M) or _crossing(
+                M, pts[c], A, B) or _inside(mid, hxy) or any(_inside(mid, later[h])
+                                                             for h in boxed.tolist()):
             continue
         c = int(c)
         ring = ring[:c + 1] + hole[i:] + hole[:i + 1] + ring[c:]
@@ -950,25 +1045,39 @@ def _bridged(ring, pts, hole, hxy, later):
     raise _Unfit
 
 
+def _into_corner(a, p, b, m):
+    """Whether m lies strictly inside the corner at p of a counter-clockwise ring a, p, b."""
+    e0, e1, u = a - p, b - p, m - p
+    left, right = _cross2(e1, u) > 0, _cross2(u, e0) > 0
+    return bool(left and right) if _cross2(e1, e0) > 0 else bool(left or right)
+
+
 def _ear_clipped(ring, pts):
-    """Triangles (k - 2, 3) of the counter-clockwise polygon `ring` (ids) at `pts` (k, 2)."""
+    """Triangles (k - 2, 3) of the counter-clockwise polygon `ring` (ids) at `pts` (k, 2):
+    ears cut walking on from the last one; only vertices that are not convex can lie in
+    a convex corner's triangle (the outline meets it there first)."""
     idx = list(range(len(ring)))
     out = []
     scale = np.ptp(pts, axis=0).max() ** 2
+    pos = 0
     while len(idx) > 3:
-        for pos in range(len(idx)):
-            p, c, q = idx[pos - 1], idx[pos], idx[(pos + 1) % len(idx)]
-            a, b, d = pts[p], pts[c], pts[q]
-            if _cross2(b - a, d - b) <= 1e-14 * scale:
+        P = pts[idx]
+        prev, nxt = np.roll(P, 1, axis=0), np.roll(P, -1, axis=0)
+        convex = _cross2(P - prev, nxt - P) > 1e-14 * scale
+        blockers = P[~convex]
+        for step in range(len(idx)):
+            i = (pos + step) % len(idx)
+            if not convex[i]:
                 continue
-            rest = pts[[x for x in idx if x not in (p, c, q)]]
-            rest = rest[~(np.all(rest == a, axis=1) | np.all(rest == b, axis=1)
-                          | np.all(rest == d, axis=1))]
+            a, b, d = prev[i], P[i], nxt[i]
+            rest = blockers[~(np.all(blockers == a, axis=1) | np.all(blockers == b, axis=1)
+                              | np.all(blockers == d, axis=1))]
             if np.any((_cross2(b - a, rest - a) >= 0) & (_cross2(d - b, rest - b) >= 0)
                       & (_cross2(a - d, rest - d) >= 0)):
                 continue
-            out.append((ring[p], ring[c], ring[q]))
-            del idx[pos]
+            out.append((ring[idx[i - 1]], ring[idx[i]], ring[idx[(i + 1) % len(idx)]]))
+            del idx[i]
+            pos = max(i - 1, 0)
             break
         else:
             raise _Unfit
