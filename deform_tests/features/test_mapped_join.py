@@ -116,6 +116,52 @@ class LocalJoin(unittest.TestCase):
             self.assertLess((kept.CenterOfMass - where).Length, 1e-9)
             self.assertLess(abs(kept.Area / face.Area - 1), 1e-12)
 
+    def test_slanted_planes_under_a_smooth_twist(self):
+        """A box tilted across the planes: its region's faces are planes whose (u, v) run
+        neither along the sections nor up the slope, each fitted as a ruled image (straight
+        along its lines of constant s). Random points of the region's faces, turned by the
+        exact Smooth twist written here, lie on the result within MaxDeviation, which is
+        within Tolerance; the volume is kept to MaxDeviation x the region's area."""
+        solid = Part.makeBox(10, 10, 40)
+        solid.rotate(V(5, 5, 20), V(1, 0.3, 0), 17)
+        z0, z1, angle = 12.0, 28.0, 40.0
+        doc = fc.new_document("MappedJoin")
+        self.addCleanup(App.closeDocument, doc.Name)
+        base = doc.addObject("Part::Feature", "Base")
+        base.Shape = solid
+        doc.recompute()
+        obj = fd.make_twist(base, (V(0, 0, z0), V(0, 0, 1)), (V(0, 0, z1), V(0, 0, 1)), angle,
+                            axis=(V(5, 5, 0), V(0, 0, 1)))
+        obj.Profile = "Smooth"
+        doc.recompute()
+        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        result = obj.Shape
+        self.assertTrue(result.isValid())
+        self.assertEqual(len(result.Solids), 1)
+        result.check(True)
+        self.assertLessEqual(obj.MaxDeviation, obj.Tolerance.Value)
+        region = solid.common(Part.makeBox(100, 100, z1 - z0, V(-50, -50, z0)))
+        slanted = [f for f in region.Faces if abs(f.normalAt(0, 0).z) < 1 - 1e-9]
+        self.assertEqual(len(slanted), 4)
+        self.assertLess(abs(result.Volume - solid.Volume),
+                        obj.MaxDeviation * region.Area + 1e-9 * solid.Volume)
+        ruled = [f for f in result.Faces if f.Surface.TypeId == "Part::GeomBSplineSurface"]
+        self.assertEqual(len(ruled), 4)
+        self.assertTrue(all(1 in (f.Surface.UDegree, f.Surface.VDegree) for f in ruled))
+        rng = np.random.default_rng(3)
+        worst = 0.0
+        for face in slanted:
+            u0, u1, v0, v1 = face.ParameterRange
+            for u, v in rng.uniform((u0, v0), (u1, v1), (40, 2)):
+                if not face.isPartOfDomain(u, v):
+                    continue
+                p = face.valueAt(u, v)
+                s = (p.z - z0) / (z1 - z0)
+                turn = App.Rotation(V(0, 0, 1), angle * s * s * (3 - 2 * s))
+                image = turn.multVec(p - V(5, 5, 0)) + V(5, 5, 0)
+                worst = max(worst, result.distToShape(Part.Vertex(image))[0])
+        self.assertLessEqual(worst, obj.MaxDeviation + 1e-9)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -342,7 +342,10 @@ def map_face(face, smap, tol, points=None):
         # a stretch along its axis keeps every point on the very same cylinder: the face is
         # its parameter rectangle with the axial bounds mapped
         return _stretched_rectangle(face, smap), 0.0
-    built, dev = _fitted(face, lambda p: smap(p, clamp=False), tol)
+    if face.Surface.TypeId == "Part::GeomPlane":
+        built, dev = _fitted_plane(face, smap, tol)
+    else:
+        built, dev = _fitted(face, lambda p: smap(p, clamp=False), tol)
     if getattr(smap, "affine", False):
         if face.Surface.TypeId == "Part::GeomPlane":
             return _on_surface(built, _plane_of(built)), dev
@@ -533,6 +536,62 @@ def _fitted(face, point_map, tol):
     return built, fit.deviation
 
 
+def _fitted_plane(face, smap, tol):
+    """(the plane face through the map, deviation): fitted in the plane's (u, v) turned so
+    that u' runs along its lines of constant s and v' up the slope of s. Every map of ours
+    moves the section at s by one affine A(s), so these lines stay straight and the image
+    is exactly linear in u' (degree 1, one span: only the curve along v' is fitted), over
+    the face's own range of s (the map never continued far past the planes). The fit and
+    the map then differ linearly along u', most at its ends: checked there, densely along
+    v', the deviation is proven, and the spans along v' (from 3, far fewer than a general
+    fit's, so OCCT's Volume of the face costs a tenth) doubled until it holds. The pcurves
+    turned the same way are the same curves (lines stay lines, circles circles)."""
+    import FreeCAD as App
+    o, x, y = surface_grid(face.Surface, [0.0, 1.0], [0.0, 1.0]).reshape(4, 3)[[0, 2, 1]]
+    x, y = x - o, y - o  # a Part.Plane's unit, orthogonal u and v directions
+    slope = np.array([x @ smap.normal, y @ smap.normal]) / smap.gap  # ds/du, ds/dv
+    cx, cy = slope / np.linalg.norm(slope)
+    turn = np.array([[cy, -cx], [cx, cy]])  # (u', v') = turn @ (u, v), a rotation
+    u0, u1, v0, v1 = face.ParameterRange
+    corners = turn @ np.array([[u0, u0, u1, u1], [v0, v1, v0, v1]])
+    # s = s0 + |slope| v': the face lies where 0 <= s <= 1 (a hair beyond, in tolerance)
+    s0, k = (o - smap.origin) @ smap.normal / smap.gap, np.linalg.norm(slope)
+    lo = max(corners[1].min(), (-1e-3 - s0) / k)
+    hi = min(corners[1].max(), (1.0 + 1e-3 - s0) / k)
+
+    def mapped(U, V):
+        u = turn[0, 0] * U[:, None] + turn[1, 0] * V[None, :]
+        v = turn[0, 1] * U[:, None] + turn[1, 1] * V[None, :]
+        pts = o + u[..., None] * x + v[..., None] * y
+        return smap(pts.reshape(-1, 3), clamp=False).reshape(pts.shape)
+
+    ends = np.array([corners[0].min(), corners[0].max()])
+    spans = 3
+    while True:
+        fit = surface_fit.fit_surface(mapped, ends, (lo, hi), tol, degree=(1, DEGREE),
+                                      spans=(1, spans))
+        knots = np.unique(fit.vknots)
+        dense = np.concatenate([np.linspace(a, b, 16)[1:] for a, b in zip(knots, knots[1:])])
+        deviation = max(fit.deviation, float(np.linalg.norm(
+            surface_fit.evaluate_surface(fit, ends, dense) - mapped(ends, dense), axis=-1).max()))
+        if deviation <= tol or len(knots) > 256:
+            break
+        spans = 2 * (len(knots) - 1)
+    angle = float(np.arctan2(cx, cy))
+
+    def turned(edge, forward):
+        c2d, a, b = forward.curveOnSurface(edge)
+        c2d = c2d.copy()
+        c2d.rotate(App.Base.Vector2d(0.0, 0.0), angle)
+        return c2d, a, b
+
+    built = face_on_pcurves(bspline_surface(fit), face, turned)
+    if built is None:
+        raise DeformError("A mapped face could not be rebuilt on its fitted surface; "
+                          "change Tolerance.", "Tolerance")
+    return built, deviation
+
+
 def _breaks(surface, a, b, direction, most=64):
     """Initial fit breakpoints: the B-spline's own knots inside [a, b] (so its lower
     continuity there is kept), else four spans. (Fewer would make OCCT's Volume of the
@@ -553,8 +612,9 @@ def bspline_surface(fit):
     uk, um = knots_and_mults(fit.uknots)
     vk, vm = knots_and_mults(fit.vknots)
     poles = [[App.Vector(*p) for p in row] for row in fit.poles.tolist()]
+    pu, pv = (fit.degree, fit.degree) if np.ndim(fit.degree) == 0 else fit.degree
     s = Part.BSplineSurface()
-    s.buildFromPolesMultsKnots(poles, um, vm, uk, vk, False, False, fit.degree, fit.degree)
+    s.buildFromPolesMultsKnots(poles, um, vm, uk, vk, False, False, pu, pv)
     return s
 
 

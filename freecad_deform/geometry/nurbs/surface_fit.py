@@ -27,7 +27,7 @@ class SurfaceFit(NamedTuple):
     uknots: np.ndarray
     vknots: np.ndarray
     poles: np.ndarray       # (nu, nv, d)
-    degree: int
+    degree: int             # or (u degree, v degree)
     deviation: float
 
 
@@ -110,29 +110,30 @@ def fit_surface(fn, u_range, v_range, tol, degree=3, spans=(4, 4), max_spans=256
     at both ends of a direction (a seam) the end pole rows are made equal, and a boundary
     where every value is one point (a pole of a sphere, an apex) gets all its poles on that
     point: the fit is closed exactly where the original is, so seams and degenerated edges
-    stay what they are."""
+    stay what they are. `degree`: one for both directions, or (u degree, v degree) (a
+    direction along which the values are exactly linear fits at degree 1, one span)."""
+    pu, pv = (degree, degree) if np.ndim(degree) == 0 else degree
     ub, vb = (np.linspace(*u_range, spans[0] + 1), np.linspace(*v_range, spans[1] + 1)) \
-        if breaks is None else (_at_least(breaks[0], degree), _at_least(breaks[1], degree))
+        if breaks is None else (_at_least(breaks[0], pu), _at_least(breaks[1], pv))
     while True:
         fu, cu = samples(ub)
         fv, cv = samples(vb)
-        uk, vk = knot_vector(ub, degree), knot_vector(vb, degree)
+        uk, vk = knot_vector(ub, pu), knot_vector(vb, pv)
         G = np.asarray(fn(_interleaved(fu, cu), _interleaved(fv, cv)), float)
-        P = _closed(np.swapaxes(_solve(design(fv, vk, degree), np.swapaxes(
-            _solve(design(fu, uk, degree), G[::2, ::2]), 0, 1)), 0, 1), G[::2, ::2])
-        du, dv = design(_interleaved(fu, cu), uk, degree), design(_interleaved(fv, cv), vk,
-                                                                    degree)
+        P = _closed(np.swapaxes(_solve(design(fv, vk, pv), np.swapaxes(
+            _solve(design(fu, uk, pu), G[::2, ::2]), 0, 1)), 0, 1), G[::2, ::2])
+        du, dv = design(_interleaved(fu, cu), uk, pu), design(_interleaved(fv, cv), vk, pv)
         err = np.linalg.norm(_grid(du, P, dv) - G, axis=-1)
         deviation = float(np.max(err[1::2, :], initial=0.0))
         deviation = max(deviation, float(np.max(err[:, 1::2], initial=0.0)))
         if deviation <= tol:
             return SurfaceFit(uk, vk, P, degree, deviation)
         # each direction's own error: the samples fitted along it alone, checked midway
-        Du = design(fu, uk, degree)
-        Dv = design(fv, vk, degree)
-        err_u = np.linalg.norm(np.einsum("ia,ajd->ijd", design(cu, uk, degree),
+        Du = design(fu, uk, pu)
+        Dv = design(fv, vk, pv)
+        err_u = np.linalg.norm(np.einsum("ia,ajd->ijd", design(cu, uk, pu),
                                          _solve(Du, G[::2, ::2])) - G[1::2, ::2], axis=-1)
-        err_v = np.linalg.norm(np.einsum("ia,ajd->ijd", design(cv, vk, degree),
+        err_v = np.linalg.norm(np.einsum("ia,ajd->ijd", design(cv, vk, pv),
                                          _solve(Dv, np.swapaxes(G[::2, ::2], 0, 1)))
                                - np.swapaxes(G[::2, 1::2], 0, 1), axis=-1)
         bad_u = np.zeros(len(ub) - 1, bool)
@@ -178,8 +179,8 @@ def _interleaved(fit, check):
 
 def evaluate_surface(fit, u, v):
     """The fitted surface on the grid u x v: (len(u), len(v), d)."""
-    return _grid(design(u, fit.uknots, fit.degree), fit.poles,
-                 design(v, fit.vknots, fit.degree))
+    pu, pv = (fit.degree, fit.degree) if np.ndim(fit.degree) == 0 else fit.degree
+    return _grid(design(u, fit.uknots, pu), fit.poles, design(v, fit.vknots, pv))
 
 
 def evaluate_curve(fit, t):
