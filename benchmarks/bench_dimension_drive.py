@@ -12,7 +12,11 @@ Prints tables, asserts nothing about time.
    simplification, prisms and Warren coordinates, in wall and in CPU time (the median of
    each over the same runs); the op (ops.dimension_drive: handle and drive, FreeCAD
    conversions included) and a document recompute for a new Target, with their CPU time.
-2. Update for 300,000 and 1,000,000 vertices (paper: under 30 ms for 300,000 vertices
+2. Handle generation on the STL models of testdata (sh2, TR12J, counter) and a 400 x 400 x 10
+   plate with a 12 x 12 grid of round holes tessellated by OCCT (0.05 mm): the meshes the
+   outline simplification must not make slower than collapsing them whole (issue 16); CPU
+   time, and the simplification's route (how many regions its outlines build).
+3. Update for 300,000 and 1,000,000 vertices (paper: under 30 ms for 300,000 vertices
    and 10 handle vertices): fandisk subdivided four times (1.66M vertices, every child
    triangle in its parent's region, the same simplified mesh), bound to the handle; the
    first N vertices' rows of the coordinate matrix are the update of N vertices.
@@ -25,8 +29,8 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from bench_stretch import (machine_line, options, print_table, run_as_script,  # noqa: E402
-                           seconds, subdivided, testdata)
+from bench_stretch import (holed_plate, machine_line, options, print_table,  # noqa: E402
+                           run_as_script, seconds, subdivided, testdata)
 
 import FreeCAD as App  # noqa: E402
 import Mesh  # noqa: E402
@@ -35,6 +39,7 @@ from scipy.sparse import csr_matrix  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.geometry.mesh import dimension_drive as dd  # noqa: E402
+from freecad_deform.geometry.mesh import simplify as simplification  # noqa: E402
 from freecad_deform.geometry.mesh.dimension_handle import build_handle  # noqa: E402
 from freecad_deform.ops import dimension_drive as op  # noqa: E402
 from freecad_deform.shapes.convert import mesh_arrays  # noqa: E402
@@ -73,6 +78,47 @@ def handle_rows(timer, V, T):
         total, segment, fits, simplify, bind = np.median(steps[key], axis=0)
         rows.append((label, f"{len(V)} v / {len(T)} t", n, seconds(total), seconds(segment),
                      seconds(fits), seconds(simplify), seconds(bind), notes))
+    return rows
+
+
+def other_meshes(quick):
+    """(name, vertices, triangles) of the STL models and the tessellated holed plate."""
+    files = (("occt_sh2.stl",) if quick else
+             ("occt_sh2.stl", "occt_TR12J_OCC.stl", "trimesh_counter.unitsmm.STL"))
+    for name in files:
+        yield (name, *mesh_arrays(Mesh.Mesh(testdata(name))))
+    if not quick:
+        points, tris = holed_plate(12, 12).tessellate(0.05)
+        yield ("plate, 12 x 12 holes", np.array([tuple(p) for p in points]),
+               np.array(tris, np.int64))
+
+
+def route(V, T, model):
+    """How the simplification went: the outline route, or the whole mesh collapsed."""
+    tol = dd.HANDLE_TOLERANCE * model.size
+    try:
+        simplification._Outlines(V, T, model.labels, tol).run()
+        return "outlines"
+    except simplification._Unfit:
+        return "collapsed whole"
+
+
+def other_rows(timer, quick):
+    rows = []
+    for name, V, T in other_meshes(quick):
+        cpu, simplify, out = [], [], {}
+
+        def run():
+            marks = [time.process_time()]
+            out["model"] = op.handle(V, T, progress=lambda: marks.append(time.process_time()))
+            cpu.append(marks[-1] - marks[0])
+            simplify.append(marks[3] - marks[2])
+        timer.median(run)
+        model = out["model"]
+        rows.append((name, f"{len(V)} v / {len(T)} t", len(cpu),
+                     seconds(float(np.median(cpu))), seconds(float(np.median(simplify))),
+                     f"{model.count} regions, {len(model.simplified.triangles)} t simplified, "
+                     f"{route(V, T, model)}"))
     return rows
 
 
@@ -150,6 +196,9 @@ def main(argv):
     print_table("Handle generation on fandisk.obj (paper: 2.1 s, Pentium 4 3.8 GHz)",
                 ("case", "input", "runs", "total", "segment", "fits", "simplify", "bind", "notes"),
                 handle_rows(timer, V, T) + recompute_rows(timer, mesh))
+    print_table("Handle generation on STL models and a tessellated plate (CPU)",
+                ("mesh", "input", "runs", "handle CPU", "simplify CPU", "notes"),
+                other_rows(timer, args.quick))
     counts = (300_000,) if args.quick else (300_000, 1_000_000)
     print_table("Update (paper: < 30 ms for 300,000 vertices); floor: CSR product, same shape "
                 "and nnz", ("case", "input", "runs", "ours", "floor", "ours/floor", "floor runs"),

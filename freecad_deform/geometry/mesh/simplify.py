@@ -592,14 +592,16 @@ class _Outlines:
         if not near:
             return out
         keep, decided = self.kind == CORNER, np.zeros(len(self.V), bool)
-        for loops in self.loops:
-            for loop in loops:
+        sizes = np.bincount(self.region, minlength=len(self.labels))
+        for k in sorted(near, key=lambda k: -sizes[k]):
+            for loop in self.loops[k]:
                 self._lines(loop, keep, decided)
-        for k in near:
             try:
                 self._built(k, False, keep)
             except _Unfit:
                 out[k] = True
+                if sizes[slow | out].sum() > SLOW_SHARE * len(self.T):
+                    break                       # the whole mesh is collapsed anyway
         return out
 
     def _classes(self):
