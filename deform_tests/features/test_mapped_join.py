@@ -163,5 +163,39 @@ class LocalJoin(unittest.TestCase):
         self.assertLessEqual(worst, obj.MaxDeviation + 1e-9)
 
 
+class ContinuityOfPlanarFaces(unittest.TestCase):
+    def test_report_matches_occt_sections(self):
+        """Planar faces with straight edges get their section's ends without OCCT's section:
+        the report must equal Lemma 1 judged here on OCCT's slice of every face (points
+        along the section edges, the face's normal there), under a bend whose joints are
+        G1 on some faces and C0 on others, at both planes."""
+        # tilted about the bend axis's direction: the faces facing it stay G1, the others
+        # (and the hole, sectioned by OCCT in the report too) turn C0
+        solid = Part.makeBox(10, 10, 40).cut(Part.makeCylinder(2, 40, V(5, 5, 0)))
+        solid.rotate(V(5, 5, 20), V(0, 1, 0), 17)
+        n, z0, gap = np.array([0, 0, 1.0]), 12.0, 16.0
+        smap = space_map.bend_map(np.array([0, 0, z0]), n, gap, np.radians(30),
+                                  np.array([60.0, 0, 20]), np.array([0, 1.0, 0]))
+        out = mapped.continuity_report(solid, smap)
+        want = {}
+        for side, z in ((0, z0), (1, z0 + gap)):
+            for k, face in enumerate(solid.Faces):
+                edges = [e for w in face.copy().slice(V(*n), z) for e in w.Edges]
+                if not edges:
+                    continue
+                pts = np.array([tuple(e.valueAt(t)) for e in edges
+                                for t in np.linspace(e.FirstParameter, e.LastParameter, 9)])
+                normals = np.array([tuple(face.Surface.normal(*face.Surface.parameter(V(*p))))
+                                    for p in pts])
+                jump = smap.normal_derivative(pts, side)
+                size = np.linalg.norm(jump, axis=1)
+                ok = (size < 1e-6) | (np.abs(np.einsum("ij,ij->i", normals, jump)) <= 1e-6 * size)
+                name = f"Face{k + 1}"
+                want[name] = "C0" if not ok.all() or want.get(name) == "C0" else "G1"
+        self.assertEqual({"G1", "C0"}, set(want.values()))
+        self.assertEqual(list(out["SplitFaces"]), sorted(want, key=lambda k: int(k[4:])))
+        self.assertEqual(dict(e.split(": ") for e in out["Continuity"].split("; ")), want)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -120,20 +120,20 @@ def fit_surface(fn, u_range, v_range, tol, degree=3, spans=(4, 4), max_spans=256
         fv, cv = samples(vb)
         uk, vk = knot_vector(ub, pu), knot_vector(vb, pv)
         G = np.asarray(fn(_interleaved(fu, cu), _interleaved(fv, cv)), float)
-        P = _closed(np.swapaxes(_solve(design(fv, vk, pv), np.swapaxes(
-            _solve(design(fu, uk, pu), G[::2, ::2]), 0, 1)), 0, 1), G[::2, ::2])
+        # one design matrix per direction: the fitting samples are its even rows
         du, dv = design(_interleaved(fu, cu), uk, pu), design(_interleaved(fv, cv), vk, pv)
+        Du, Dv = du[::2], dv[::2]
+        P = _closed(np.swapaxes(_solve(Dv, np.swapaxes(_solve(Du, G[::2, ::2]), 0, 1)), 0, 1),
+                    G[::2, ::2])
         err = np.linalg.norm(_grid(du, P, dv) - G, axis=-1)
         deviation = float(np.max(err[1::2, :], initial=0.0))
         deviation = max(deviation, float(np.max(err[:, 1::2], initial=0.0)))
         if deviation <= tol:
             return SurfaceFit(uk, vk, P, degree, deviation)
         # each direction's own error: the samples fitted along it alone, checked midway
-        Du = design(fu, uk, pu)
-        Dv = design(fv, vk, pv)
-        err_u = np.linalg.norm(np.einsum("ia,ajd->ijd", design(cu, uk, pu),
+        err_u = np.linalg.norm(np.einsum("ia,ajd->ijd", du[1::2],
                                          _solve(Du, G[::2, ::2])) - G[1::2, ::2], axis=-1)
-        err_v = np.linalg.norm(np.einsum("ia,ajd->ijd", design(cv, vk, pv),
+        err_v = np.linalg.norm(np.einsum("ia,ajd->ijd", dv[1::2],
                                          _solve(Dv, np.swapaxes(G[::2, ::2], 0, 1)))
                                - np.swapaxes(G[::2, 1::2], 0, 1), axis=-1)
         bad_u = np.zeros(len(ub) - 1, bool)
