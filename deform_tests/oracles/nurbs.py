@@ -57,33 +57,31 @@ def own_area(s, poles=None, nodes=40, toward=None, levels=60):
     """The area from scipy's BSpline on the poles themselves (non-rational); toward: a
     corner (u, v) of the parameter square the grid is graded toward (2^-l, l < levels)."""
     P = s.poles if poles is None else poles
-    x, w = np.polynomial.legendre.leggauss(nodes)
-
-    def grid(knots, end):
-        k = np.unique(knots)
-        if end is not None:
-            a, b = (k[0], k[1]) if end == k[0] else (k[-1], k[-2])
-            k = np.unique(np.r_[k, a + (b - a) * 2.0 ** -np.arange(1, levels)])
-        half = np.diff(k) / 2
-        return ((k[:-1] + k[1:])[:, None] / 2 + half[:, None] * x).ravel(), \
-            (half[:, None] * w).ravel()
-    u, wu = grid(s.uknots, None if toward is None else toward[0])
-    v, wv = grid(s.vknots, None if toward is None else toward[1])
+    u, wu = _nodes(s.uknots, nodes, None if toward is None else toward[0], levels)
+    v, wv = _nodes(s.vknots, nodes, None if toward is None else toward[1], levels)
     return float(wv @ _area_element(s, P, u, v) @ wu)
 
 
 def own_cell_areas(s, nodes=60):
     """The area of every knot-span cell (cells_u, cells_v), as own_area integrates it."""
-    x, w = np.polynomial.legendre.leggauss(nodes)
+    u, wu = _nodes(s.uknots, nodes)
+    v, wv = _nodes(s.vknots, nodes)
+    f = _area_element(s, s.poles, u, v).reshape(len(wv) // nodes, nodes, len(wu) // nodes,
+                                                 nodes)
+    return np.einsum("jbia,ia,jb->ij", f, wu.reshape(-1, nodes), wv.reshape(-1, nodes))
 
-    def grid(knots):
-        k = np.unique(knots)
-        half = np.diff(k) / 2
-        return ((k[:-1] + k[1:])[:, None] / 2 + half[:, None] * x).ravel(), half[:, None] * w
-    u, wu = grid(s.uknots)
-    v, wv = grid(s.vknots)
-    f = _area_element(s, s.poles, u, v).reshape(len(wv), nodes, len(wu), nodes)
-    return np.einsum("jbia,ia,jb->ij", f, wu, wv)
+
+def _nodes(knots, nodes, end=None, levels=60):
+    """Gauss-Legendre nodes and weights, `nodes` per knot span (spans split toward the
+    knot `end` at 2^-l, l < levels, when given)."""
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    k = np.unique(knots)
+    if end is not None:
+        a, b = (k[0], k[1]) if end == k[0] else (k[-1], k[-2])
+        k = np.unique(np.r_[k, a + (b - a) * 2.0 ** -np.arange(1, levels)])
+    half = np.diff(k) / 2
+    return ((k[:-1] + k[1:])[:, None] / 2 + half[:, None] * x).ravel(), \
+        (half[:, None] * w).ravel()
 
 
 def _area_element(s, P, u, v):

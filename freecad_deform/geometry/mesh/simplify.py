@@ -523,7 +523,7 @@ class _Outlines:
         decided outline, whose other vertices go first; a flat or curved neighbour is
         built again with any of them that stayed. _Unfit (the whole mesh collapsed) when
         one stays on a tube's line or a region ends too far all the same."""
-        V, T, tol = self.V, self.T, self.tol
+        V, T = self.V, self.T
         K, n = len(self.labels), len(V)
         flat, disk = self._classes()
         slow = ~flat & ~disk

@@ -13,7 +13,7 @@ from ..errors import DeformError
 from ..blocks import BLOCK, compress_rows, tiled
 from .cut import arrays, placed, seam, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
-from ..sweep.planes import check_crossing, signed_distance, unit_normal
+from ..sweep.planes import check_crossing, signed_distance, unit_as_given, unit_normal
 from ..vectors import skew, unit
 
 
@@ -226,9 +226,7 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     room = N + N // 4 + 1024
     W, fractions = np.empty((room, 3)), np.empty(room)
     s, u = np.empty(N), np.empty(N)
-    ns = np.asarray(n, float)
-    if not abs(ns @ ns - 1.0) <= 1e-15:
-        ns = unit_normal(ns)
+    ns = unit_as_given(n)
     minus_o = tiled(-o, N)
     rows = np.empty(min(BLOCK, N) * 3)
     small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
@@ -371,9 +369,8 @@ def slab_cut(V, T, o, n, gap, samples, eps):
             W, point, *(x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc,
                                               f_ac, n_ac, e_ab, e_bc, e_ac)))
     new = without_flat(new)
-    # the per-vertex arrays freed before the result is allocated: a lower peak lets the
-    # allocator keep the freed memory for the next call (with them alive, a repeated call
-    # took ~11,000 fresh pages, 20 to 30 ms of system time; after it, none)
+    # the per-vertex arrays freed before the result is allocated: a lower peak (whether a
+    # repeated call then takes fresh pages depends on the allocator's state either way)
     del s, u, cell
     kept = len(T) - len(rows)                 # the triangles crossing no plane, then the new
     out = np.empty((kept + len(new), 3), np.int64)

@@ -37,9 +37,7 @@ def signed_distance(points, origin, normal):
     equal to origin (the cheaper p @ n - origin . n is not). A normal of length 1 (to
     rounding) is used as it is, so a kernel holding a unit n gets distances along exactly
     that n; any other is scaled to length 1."""
-    n = np.asarray(normal, dtype=float).reshape(3)
-    if not abs(n @ n - 1.0) <= 1e-15:
-        n = unit_normal(normal)
+    n = unit_as_given(normal)
     pts = np.ascontiguousarray(points, dtype=float).reshape(-1, 3)
     s = np.empty(len(pts))
     rows = np.empty(min(BLOCK, len(pts)) * 3)
@@ -50,6 +48,13 @@ def signed_distance(points, origin, normal):
         np.add(block, minus_o[:block.size], out=r)
         np.matmul(r.reshape(-1, 3), n, out=s[i:i + BLOCK])
     return s
+
+
+def unit_as_given(normal):
+    """The normal itself when its length is 1 to rounding (distances are then measured
+    along exactly the n a kernel holds), else scaled to length 1."""
+    n = np.asarray(normal, dtype=float).reshape(3)
+    return n if abs(n @ n - 1.0) <= 1e-15 else unit_normal(normal)
 
 
 def frame(normal):
