@@ -8,6 +8,8 @@ through the map:
   surface; only its pcurves change, u -> u + angle(s) (fitted in 2D to the tolerance);
 - under an affine map (a Linear stretch) a plane stays a Part.Plane through its mapped
   edges;
+- any other plane: a B-spline in the plane's (u, v) turned to run along its lines of
+  constant s, which every map keeps straight: degree 1 along them, fitted only up the slope;
 - every other face: a B-spline fitted to the mapped points in the face's own (u, v)
   parametrisation (geometry.nurbs.surface_fit), the face rebuilt from its own pcurves.
 The mapped faces are sewn to the pieces' faces at the joints, which go into the pieces in
