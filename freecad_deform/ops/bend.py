@@ -81,7 +81,7 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
         offsets = [0.0] if gap is None else [0.0, gap]
         zones = brep.split_zones(solid, origin, normal, offsets)
         near, far = zones[0], zones[-1]
-        cut = brep.faces_on_plane(near, origin, normal)
+        cut = brep.section_faces(zones[1], origin, normal)
         if not cut:
             return None if not near and not far else brep.join(
                 near + brep.transformed(far, far_motion), [(origin, normal), far_joint])

@@ -72,14 +72,17 @@ def twist_shape(shape, origin, normal, gap, angle, axis_point, axis_direction, s
 
     def solid_fn(solid):
         zones = near, between, far = brep.split_zones(solid, origin, normal, [0.0, gap])
-        cut = brep.faces_on_plane(near, origin, normal)
+        cut = brep.section_faces(between, origin, normal)
         if not between:  # this solid lies before Plane or beyond Plane2: one piece
             if len(near) + len(far) != 1:
                 raise DeformError("The split at Plane and Plane2 lost the region between "
                                   "them; move Plane2 a little.", "Plane2")
             return (near + brep.transformed(far, turn))[0]
-        if not (cut and brep.is_prismatic(between, origin, normal, gap)):
-            return through_map(solid, zones)
+        top = [brep.faces_on_plane(z, origin + gap * normal, normal) for z in (between, far)]
+        if not (cut and brep.is_prismatic(between, origin, normal, gap)) or not (
+                brep.all_shared(cut, near) and brep.all_shared(top[0], far)
+                and brep.all_shared(top[1], between)):
+            return through_map(solid, zones)  # the loft joins only sections both sides share
         profiles = [brep.transformed(brep.translated(cut, f * gap * normal), turn_to(f))
                     for f in fracs]
         result = pp.lofted_join(near, cut, profiles, far, (origin + gap * normal, normal), turn,

@@ -300,6 +300,23 @@ def faces_on_plane(solids, origin, normal):
     return found
 
 
+def section_faces(beyond, origin, normal):
+    """The section just beyond the plane that an edit sweeps or extrudes: the faces of the
+    `beyond` pieces (the zone after the plane) lying in it, turned to face along the
+    normal as the near pieces' cut faces do (a face shared with a near piece is that very
+    face). A face of the part itself in the plane with nothing beyond it (a step) bounds
+    the near side only and is left out; one that bounds the far side (an overhang) is in:
+    the section is the material the moving side starts from, as for a mesh's vertices."""
+    return [f.reversed() for f in faces_on_plane(beyond, origin, normal)]
+
+
+def all_shared(faces, pieces):
+    """Whether every face is one of the pieces' faces (a section the split made, not a
+    face of the part itself lying in the plane)."""
+    theirs = {f.hashCode() for s in pieces for f in s.Faces}
+    return all(f.hashCode() in theirs for f in faces)
+
+
 def faces_on_surface(solids, surface):
     """Faces of `solids` lying on a PolylineSurface (the section faces a Case 3 split made)."""
     return [face for solid in solids for face in solid.Faces
