@@ -84,18 +84,26 @@ class PlaneOps(unittest.TestCase):
         Base or a moved Base must give the report a fresh computation gives."""
         box, bigger = Part.makeBox(10, 20, 30), Part.makeCylinder(5, 30)
         moved = box.rotated(V(0, 0, 0), V(1, 0, 0), 90)  # the same faces, placed anew
+        tower = box.fuse(Part.makeCylinder(3, 20, V(5, 10, 30))).removeSplitter()
+        cases = (("box", box, 10.0), ("cylinder", bigger, 10.0), ("box at 20", box, 20.0),
+                 ("moved box", moved, 10.0), ("tower", tower, 10.0),
+                 ("tower at 40", tower, 40.0))  # other faces: the planes are in the key
         fresh = {}
-        for name, base, z in (("box", box, 10.0), ("cylinder", bigger, 10.0),
-                              ("box at 20", box, 20.0), ("moved box", moved, 10.0)):
+        for name, base, z in cases:
             stretch.pp._REPORTS.clear()
             fresh[name] = stretch.solid(base, np.array([0.0, 0, z]), Z, 3.0)[1]
-        for name, base, z in (("box", box, 10.0), ("cylinder", bigger, 10.0),
-                              ("box at 20", box, 20.0), ("moved box", moved, 10.0),
-                              ("box", box, 10.0)):
+        self.assertNotEqual(fresh["tower"]["SplitFaces"], fresh["tower at 40"]["SplitFaces"])
+        for name, base, z in cases + (("box", box, 10.0),):
             with self.subTest(name):
                 out = stretch.solid(base, np.array([0.0, 0, z]), Z, 7.0)[1]
                 self.assertEqual(out["Continuity"], fresh[name]["Continuity"])
                 self.assertEqual(list(out["SplitFaces"]), list(fresh[name]["SplitFaces"]))
+        # the caller's own shape moved in place after the report was remembered
+        own = box.copy()
+        stretch.solid(own, np.array([0.0, 0, 10.0]), Z, 3.0)
+        own.rotate(V(0, 0, 0), V(1, 0, 0), 90)
+        out = stretch.solid(own, np.array([0.0, 0, 10.0]), Z, 3.0)[1]
+        self.assertEqual(list(out["SplitFaces"]), list(fresh["moved box"]["SplitFaces"]))
         self.assertEqual(len(fresh["cylinder"]["SplitFaces"]), 1)
         self.assertEqual(len(fresh["box"]["SplitFaces"]), 4)
         self.assertEqual(list(fresh["box"]["SplitFaces"]), ["Face1", "Face2", "Face3", "Face4"])

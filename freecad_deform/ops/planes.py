@@ -49,12 +49,16 @@ def joint_report(shape, joints, key=None):
     Distance edit need not slice the Base again.
     """
     if key is not None:
-        for entry in _REPORTS:
+        for k, entry in enumerate(_REPORTS):
             if entry[1] == key and entry[0].isEqual(shape):
+                _REPORTS.append(_REPORTS.pop(k))
                 return {**entry[2], "SplitFaces": list(entry[2]["SplitFaces"])}
+        import Part
         report = joint_report(shape, joints)
-        _REPORTS.append((shape, key, report))  # holding the shape keeps its identity unique
-        del _REPORTS[:-8]
+        # a handle of its own on the same shape (holding it keeps the identity unique): the
+        # caller's object may be moved in place (translate, Placement) and must miss then
+        _REPORTS.append((Part.Shape(shape), key, report))
+        del _REPORTS[:-4]
         return {**report, "SplitFaces": list(report["SplitFaces"])}
     worst = {}
     for origin, normal, tangents, *keep in joints:
