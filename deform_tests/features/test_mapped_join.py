@@ -56,7 +56,7 @@ class LooseFacesThroughTheMap(unittest.TestCase):
 
 
 class LocalJoin(unittest.TestCase):
-    def twisted(self, solid, z0, z1, angle):
+    def twisted(self, solid, z0, z1, angle, profile=None):
         doc = fc.new_document("MappedJoin")
         self.addCleanup(App.closeDocument, doc.Name)
         base = doc.addObject("Part::Feature", "Base")
@@ -64,6 +64,9 @@ class LocalJoin(unittest.TestCase):
         doc.recompute()
         obj = fd.make_twist(base, (V(0, 0, z0), V(0, 0, 1)), (V(0, 0, z1), V(0, 0, 1)), angle,
                             axis=(V(5, 5, 0), V(0, 0, 1)))
+        if profile:
+            obj.Profile = profile
+            doc.recompute()
         self.assertNotIn("Invalid", obj.State, obj.getStatusString())
         return obj
 
@@ -125,16 +128,7 @@ class LocalJoin(unittest.TestCase):
         solid = Part.makeBox(10, 10, 40)
         solid.rotate(V(5, 5, 20), V(1, 0.3, 0), 17)
         z0, z1, angle = 12.0, 28.0, 40.0
-        doc = fc.new_document("MappedJoin")
-        self.addCleanup(App.closeDocument, doc.Name)
-        base = doc.addObject("Part::Feature", "Base")
-        base.Shape = solid
-        doc.recompute()
-        obj = fd.make_twist(base, (V(0, 0, z0), V(0, 0, 1)), (V(0, 0, z1), V(0, 0, 1)), angle,
-                            axis=(V(5, 5, 0), V(0, 0, 1)))
-        obj.Profile = "Smooth"
-        doc.recompute()
-        self.assertNotIn("Invalid", obj.State, obj.getStatusString())
+        obj = self.twisted(solid, z0, z1, angle, "Smooth")
         result = obj.Shape
         self.assertTrue(result.isValid())
         self.assertEqual(len(result.Solids), 1)
