@@ -17,7 +17,9 @@ from . import fc  # noqa: F401  (FreeCAD on sys.path)
 import FreeCAD as App  # noqa: E402
 import Part  # noqa: E402
 
-from freecad_deform.ops import bend, stretch, twist  # noqa: E402
+from freecad_deform.geometry.errors import DeformError  # noqa: E402
+from freecad_deform.geometry.sweep.motion import ScrewMotion, translation  # noqa: E402
+from freecad_deform.ops import bend, keyed, stretch, twist  # noqa: E402
 
 V = App.Vector
 Z = np.array([0.0, 0.0, 1.0])
@@ -86,3 +88,37 @@ def test_twist_with_a_plane_on_a_face_keeps_the_volume(case):
     result, report = twist.solid(solid, AT, Z, 10.0, ANGLE, (np.array([5.0, 5.0, 0.0]), Z))
     checked(result, solid.Volume, 1e-6)
     assert abs(report["VolumeChange"]) < 1e-6 * solid.Volume
+
+
+def test_keyed_lofts_the_section_the_near_part_shares():
+    """KeyPlacements' loft starts from the near part's faces: on the L it lofts the
+    column's section (+100 x 5), not the step; a solid lying on Plane with nothing before
+    it moves whole (as before this change, which had the loft refused for it)."""
+    motion = ScrewMotion(translation(5.0 * Z))
+    checked(keyed.solid(STEP[0], AT, Z, motion, 4)[0], STEP[1] + 100.0 * 5.0)
+    lying = Part.makeCompound([box(10, 10, 10, (0, 0, 10)), box(5, 5, 20, (30, 0, 0))])
+    result = keyed.solid(lying, AT, Z, motion, 4)[0]
+    assert all(s.isValid() for s in result.Solids)
+    assert result.Volume == pytest.approx(1000.0 + 500.0 + 25.0 * 5.0, rel=1e-9)
+
+
+def test_bend_maps_a_solid_that_starts_between_the_planes():
+    """A solid of a compound with no section at Plane but a piece between the planes goes
+    through the bend map (the piece was dropped: 300 of 800 mm^3 lost). Pappus on the part of the region it fills (s from
+    0.4 to 1 of the gap) plus the far part, moved whole."""
+    lone = box(10, 10, 8, (0, 0, 12))
+    crossing = box(5, 5, 20, (30, 0, 0))   # crosses both planes: the whole region bent
+    result, _ = bend.solid(Part.makeCompound([lone, crossing]), AT, Z, ANGLE, BEND_AXIS, 5.0)
+    assert len(result.Solids) == 2 and all(s.isValid() for s in result.Solids)
+    want = sorted([100.0 * (BEND_AXIS[0][0] - 5.0) * ANGLE * 0.6 + 500.0,
+                   250.0 + 25.0 * (BEND_AXIS[0][0] - 32.5) * ANGLE + 125.0])
+    assert sorted(s.Volume for s in result.Solids) == pytest.approx(want, rel=1e-6)
+
+
+def test_a_fuse_that_fails_names_plane():
+    """A hole tangent to Plane from below: OCCT's fuse of the pieces fails; the refusal is a
+    DeformError naming Plane, not OCCT's RuntimeError."""
+    solid = box(20, 10, 20).cut(Part.makeCylinder(3, 10, V(10, 0, 7), V(0, 1, 0)))
+    with pytest.raises(DeformError) as err:
+        stretch.solid(solid, AT, Z, 5.0)
+    assert err.value.prop == "Plane"

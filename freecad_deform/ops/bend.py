@@ -82,12 +82,15 @@ def bend_shape(shape, origin, normal, angle, axis_point, axis_direction, gap=Non
         zones = brep.split_zones(solid, origin, normal, offsets)
         near, far = zones[0], zones[-1]
         cut = brep.section_faces(zones[1], origin, normal)
-        if not cut:
+        between = gap is not None and zones[1]
+        if not cut and not between:
             return None if not near and not far else brep.join(
                 near + brep.transformed(far, far_motion), [(origin, normal), far_joint])
-        check_bend(np.vstack([brep.sample_points(f) for f in cut]), normal, axis_point,
-                   axis_direction, angle)
-        if gap is not None and not brep.is_prismatic(zones[1], origin, normal, gap):
+        if cut:
+            check_bend(np.vstack([brep.sample_points(f) for f in cut]), normal, axis_point,
+                       axis_direction, angle)
+        if between and not (cut and brep.is_prismatic(zones[1], origin, normal, gap)):
+            # (a solid that starts between the planes, with no section at Plane, too)
             smap = space_map.bend_map(origin, normal, gap, angle, axis_point, axis_direction,
                                       profile)
             result, deviation = mapped.map_solid(solid, smap, tolerance, "Tolerance", zones)

@@ -88,7 +88,7 @@ def sweep_solid(solid, origin, normal, motion, samples, prop="KeyPlacements"):
     """Case 1 with a general motion (Steps 4-7): the section swept through profiles normal
     to the path of its centroid, placed and turned by the motion, and lofted."""
     near, far = brep.split_zones(solid, origin, normal, [0.0])
-    cut = brep.section_faces(far, origin, normal)
+    cut = brep.shared_section(near, far, origin, normal)  # the loft starts from near's faces
     end = motion.matrix(1.0)
     if not cut:  # this solid lies on one side: kept or moved whole
         return (near + brep.transformed(far, end))[0]

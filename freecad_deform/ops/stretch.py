@@ -151,7 +151,7 @@ def _stretch_solid(solid, origin, normal, distance, gap, through_map):
     if gap is not None:
         zones = brep.split_zones(solid, origin, normal, [0.0, gap])
         near, between, far = zones
-        cut = brep.section_faces(between or far, origin, normal)
+        cut = brep.section_faces(between, origin, normal)
         if not between or (cut and brep.is_prismatic(between, origin, normal, gap)):
             middle = brep.extruded(cut, (gap + distance) * normal) if between else []
             change = _area(cut) * (gap + distance) - _volume(between) if between else 0.0

@@ -310,6 +310,13 @@ def section_faces(beyond, origin, normal):
     return [f.reversed() for f in faces_on_plane(beyond, origin, normal)]
 
 
+def shared_section(near, beyond, origin, normal):
+    """The part of the section just beyond the plane that the near pieces share (the faces
+    a loft from the near part can start from; section_faces with the overhangs left out)."""
+    ours = {f.hashCode() for s in near for f in s.Faces}
+    return [f for f in section_faces(beyond, origin, normal) if f.hashCode() in ours]
+
+
 def all_shared(faces, pieces):
     """Whether every face is one of the pieces' faces (a section the split made, not a
     face of the part itself lying in the plane)."""
@@ -415,7 +422,13 @@ def join(solids, joints, prop="Plane"):
                 solid, _ = _merged(sewn, on_surface)
                 if solid is not None:
                     return solid
-    fused = solids[0] if len(solids) == 1 else solids[0].fuse(solids[1:])
+    try:
+        fused = solids[0] if len(solids) == 1 else solids[0].fuse(solids[1:])
+    except (Part.OCCError, RuntimeError, ValueError):  # a tangent contact: "Multi fuse
+        # failed" (FreeCAD 0.20), "Null shape" (1.1)
+        raise DeformError(f"OCCT could not join the pieces into one solid (its fuse failed); "
+                          f"move {prop} a little, off the Base's edges and vertices.",
+                          prop) from None
     solid, failure = _merged(fused, on_surface)
     if solid is None:
         raise DeformError(f"OCCT could not join the pieces into one valid solid ({failure}); "

@@ -544,8 +544,8 @@ def _fitted_plane(face, smap, tol):
     moves the section at s by one affine A(s), so these lines stay straight and the image
     is exactly linear in u' (degree 1, one span: only the curve along v' is fitted), over
     the face's own range of s (the map never continued far past the planes). The fit and
-    the map then differ linearly along u', most at its ends: checked there, densely along
-    v', the deviation is proven, and the spans along v' (from 3, far fewer than a general
+    the map then differ linearly along u', most at its ends: checked there (exact along
+    u', 15 points a span along v'), and the spans along v' (from 3, far fewer than a general
     fit's, so OCCT's Volume of the face costs a tenth) doubled until it holds. The pcurves
     turned the same way are the same curves (lines stay lines, circles circles)."""
     import FreeCAD as App
