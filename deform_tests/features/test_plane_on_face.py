@@ -104,8 +104,8 @@ def test_keyed_lofts_the_section_the_near_part_shares():
 
 def test_bend_maps_a_solid_that_starts_between_the_planes():
     """A solid of a compound with no section at Plane but a piece between the planes goes
-    through the bend map (the piece was dropped: 300 of 800 mm^3 lost). Pappus on the part of the region it fills (s from
-    0.4 to 1 of the gap) plus the far part, moved whole."""
+    through the bend map (the piece was dropped: 300 of 800 mm^3 lost). Pappus on the part
+    of the region it fills (s from 0.4 to 1 of the gap) plus the far part, moved whole."""
     lone = box(10, 10, 8, (0, 0, 12))
     crossing = box(5, 5, 20, (30, 0, 0))   # crosses both planes: the whole region bent
     result, _ = bend.solid(Part.makeCompound([lone, crossing]), AT, Z, ANGLE, BEND_AXIS, 5.0)
