@@ -49,16 +49,17 @@ def joint_report(shape, joints, key=None):
     Distance edit need not slice the Base again.
     """
     if key is not None:
-        for k, entry in enumerate(_REPORTS):
-            if entry[1] == key and entry[0].isEqual(shape):
-                _REPORTS.append(_REPORTS.pop(k))
-                return {**entry[2], "SplitFaces": list(entry[2]["SplitFaces"])}
-        import Part
-        report = joint_report(shape, joints)
-        # a handle of its own on the same shape (holding it keeps the identity unique): the
-        # caller's object may be moved in place (translate, Placement) and must miss then
-        _REPORTS.append((Part.Shape(shape), key, report))
-        del _REPORTS[:-4]
+        hit = next((k for k, (held, held_key, _) in enumerate(_REPORTS)
+                    if held_key == key and held.isEqual(shape)), None)
+        if hit is None:
+            import Part
+            # a handle of its own on the same shape (holding it keeps the identity unique):
+            # the caller's object may be moved in place (translate, Placement) and must miss
+            _REPORTS.append((Part.Shape(shape), key, joint_report(shape, joints)))
+            del _REPORTS[:-4]
+        else:
+            _REPORTS.append(_REPORTS.pop(hit))
+        report = _REPORTS[-1][2]
         return {**report, "SplitFaces": list(report["SplitFaces"])}
     worst = {}
     for origin, normal, tangents, *keep in joints:

@@ -313,15 +313,19 @@ def section_faces(beyond, origin, normal):
 def shared_section(near, beyond, origin, normal):
     """The part of the section just beyond the plane that the near pieces share (the faces
     a loft from the near part can start from; section_faces with the overhangs left out)."""
-    ours = {f.hashCode() for s in near for f in s.Faces}
+    ours = _face_codes(near)
     return [f for f in section_faces(beyond, origin, normal) if f.hashCode() in ours]
 
 
 def all_shared(faces, pieces):
     """Whether every face is one of the pieces' faces (a section the split made, not a
     face of the part itself lying in the plane)."""
-    theirs = {f.hashCode() for s in pieces for f in s.Faces}
+    theirs = _face_codes(pieces)
     return all(f.hashCode() in theirs for f in faces)
+
+
+def _face_codes(pieces):
+    return {f.hashCode() for s in pieces for f in s.Faces}
 
 
 def faces_on_surface(solids, surface):

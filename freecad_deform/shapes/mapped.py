@@ -614,7 +614,7 @@ def bspline_surface(fit):
     uk, um = knots_and_mults(fit.uknots)
     vk, vm = knots_and_mults(fit.vknots)
     poles = [[App.Vector(*p) for p in row] for row in fit.poles.tolist()]
-    pu, pv = (fit.degree, fit.degree) if np.ndim(fit.degree) == 0 else fit.degree
+    pu, pv = surface_fit.degrees(fit.degree)
     s = Part.BSplineSurface()
     s.buildFromPolesMultsKnots(poles, um, vm, uk, vk, False, False, pu, pv)
     return s

@@ -112,7 +112,7 @@ def fit_surface(fn, u_range, v_range, tol, degree=3, spans=(4, 4), max_spans=256
     point: the fit is closed exactly where the original is, so seams and degenerated edges
     stay what they are. `degree`: one for both directions, or (u degree, v degree) (a
     direction along which the values are exactly linear fits at degree 1, one span)."""
-    pu, pv = (degree, degree) if np.ndim(degree) == 0 else degree
+    pu, pv = degrees(degree)
     ub, vb = (np.linspace(*u_range, spans[0] + 1), np.linspace(*v_range, spans[1] + 1)) \
         if breaks is None else (_at_least(breaks[0], pu), _at_least(breaks[1], pv))
     while True:
@@ -177,9 +177,14 @@ def _interleaved(fit, check):
     return out
 
 
+def degrees(degree):
+    """(u degree, v degree) of a SurfaceFit's `degree`: one for both, or a pair."""
+    return (degree, degree) if np.ndim(degree) == 0 else tuple(degree)
+
+
 def evaluate_surface(fit, u, v):
     """The fitted surface on the grid u x v: (len(u), len(v), d)."""
-    pu, pv = (fit.degree, fit.degree) if np.ndim(fit.degree) == 0 else fit.degree
+    pu, pv = degrees(fit.degree)
     return _grid(design(u, fit.uknots, pu), fit.poles, design(v, fit.vknots, pv))
 
 
