@@ -1,6 +1,6 @@
 """DirectPush benchmark: one push on a 30 x 30-pole bicubic surface next to OCCT's own
-BSplineSurface.movePoint (which FreeCAD exposes) in the same run, and the frame rate of a
-drag loop.
+BSplineSurface.movePoint (which FreeCAD exposes) in the same run, their ratio, and the
+frame rate of a drag loop.
 
 Run from anywhere (FreeCAD 0.20 on Debian):
 
@@ -18,8 +18,10 @@ rebuilt) and the op it calls (ops.direct_push.face) are timed too, on a syntheti
 terrain, trimmed and natural faces of the 323-face cast housing).
 """
 import os
+import statistics
 import sys
 import time
+import timeit
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from bench_stretch import machine_line, options, print_table, run_as_script  # noqa: E402
@@ -42,7 +44,10 @@ def ms(t):
     return f"{1e3 * t:.3f} ms"
 
 
-def push_rows(timer, n):
+def push_rows(timer, n, calls=2000):
+    """One push and one movePoint, each timed as the mean of `calls` calls (a single call
+    of some 20 us is below the clock's noise), run by run in turn so that a change of load
+    weighs on both; the landing errors by OCCT's evaluation of each result."""
     s = canopy(n, size=(100.0, 100.0))
     occ = bspline.surface_from_arrays(s)
     u, v = 0.43, 0.57
@@ -65,13 +70,20 @@ def push_rows(timer, n):
         surface.movePoint(u, v, V(*target), iu[0] + 1, iu[-1] + 1, iv[0] + 1, iv[-1] + 1)
         result["occ"] = surface
 
-    t_ours, n1 = timer.median(ours)
-    t_occ, n2 = timer.median(theirs)
-    landed = np.abs(dp.surface_row(result["s"], u, v) @ result["s"].poles.reshape(-1, 3)
-                    - target).max()
+    def per_call(fn):
+        return timeit.timeit(fn, number=calls) / calls
+
+    runs = timer.runs
+    pairs = [(per_call(ours), per_call(theirs)) for _ in range(runs)]
+    t_ours = statistics.median(p for p, _ in pairs)
+    t_occ = statistics.median(q for _, q in pairs)
+    ratio = statistics.median(p / q for p, q in pairs)
+    landed = (bspline.surface_from_arrays(result["s"]).value(u, v) - V(*target)).Length
     landed_occ = (result["occ"].value(u, v) - V(*target)).Length
-    return [("push (kernel)", f"{n}x{n} poles", n1, ms(t_ours), f"{landed:.1e}"),
-            ("movePoint (OCCT)", f"{n}x{n} poles", n2, ms(t_occ), f"{landed_occ:.1e}")]
+    label = f"{n}x{n} poles, x{calls}"
+    return [("push (kernel)", label, runs, f"{1e3 * t_ours:.4f} ms", f"{landed:.1e}"),
+            ("movePoint (OCCT)", label, runs, f"{1e3 * t_occ:.4f} ms", f"{landed_occ:.1e}"),
+            ("push / movePoint", "same runs", runs, f"{ratio:.2f}x", "")]
 
 
 def drag_rows(timer, n, frames=30):

@@ -13,7 +13,7 @@ from scipy.interpolate import BSpline
 from freecad_deform.geometry.nurbs import direct_push as dp
 from freecad_deform.geometry.errors import DeformError
 
-from ..oracles.nurbs import canopy
+from ..oracles.nurbs import canopy, clamped
 
 
 def wavy(n=9, degree=3):
@@ -438,20 +438,52 @@ def rational_eval(s, poles, u, v):
     return np.einsum("i,ijk,j->k", Bu, poles * s.weights[..., None], Bv) / w
 
 
-@settings(max_examples=60, deadline=None)
-@given(st.sampled_from(["canopy", "c1", "rational"]), st.floats(0, 1), st.floats(0, 1),
-       st.integers(0, 6), st.tuples(*[st.floats(-5, 5)] * 3), st.integers(1, 8))
+@pytest.mark.parametrize("degree", [1, 2, 3, 4, 5])
+def test_span_basis_equals_scipy_and_the_cubic_path_equals_de_boor(degree):
+    """span_basis (the closed-form push's basis) against scipy's BSpline on uniform,
+    repeated-knot and random knot vectors, at random parameters, on every knot and at the
+    ends; for degree 3 its unrolled path gives the very floats of the general triangle."""
+    rng = np.random.default_rng(degree)
+    n = 11
+    inner = [np.linspace(0, 1, n - degree + 1)[1:-1],
+             np.repeat(np.linspace(0, 1, (n - degree - 1) // 2 + 2)[1:-1], 2)[:n - degree - 1],
+             np.sort(rng.uniform(0, 1, n - degree - 1))]
+    for middle in inner:
+        knots = np.r_[np.zeros(degree + 1), middle, np.ones(degree + 1)]
+        scipy_basis = BSpline(knots, np.eye(n), degree)
+        for t in np.r_[rng.uniform(0, 1, 200), knots]:
+            first, values = dp.span_basis(knots.tolist(), degree, float(t))
+            expected = scipy_basis(t)
+            np.testing.assert_allclose(values, expected[first:first + degree + 1], rtol=0,
+                                       atol=1e-14)
+            assert np.abs(np.delete(expected, range(first, first + degree + 1))).max() < 1e-14
+            if degree == 3:
+                k = first + 3
+                assert dp._cubic_basis(knots.tolist(), k, float(t)) == \
+                    dp._de_boor(knots.tolist(), 3, k, float(t))
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.sampled_from(["canopy", "c1", "rational", "quadratic", "mixed"]), st.floats(0, 1),
+       st.floats(0, 1), st.integers(0, 6), st.tuples(*[st.floats(-5, 5)] * 3),
+       st.integers(1, 8))
 def test_unconstrained_surface_push_equals_the_general_solve_and_lands(kind, a, b, knot,
                                                                         move, size):
     """The closed-form push (no constraints) moves the same poles by the same amounts as the
     general least-norm solve (forced by holding a pole far from the point), and the point
-    lands on the target by scipy's evaluation; parameters on knots are drawn too."""
+    lands on the target by scipy's evaluation; parameters on knots are drawn too. Bicubic
+    surfaces take the closed form's degree-3 basis, the quadratic and the mixed (degree 2
+    in u, 4 in v, rational) ones its general one."""
     if kind == "canopy":
         s = canopy(12, 9)
     elif kind == "c1":
         s = c1_surface(14, 10)
+    elif kind == "quadratic":
+        s = canopy(12, 9, degree=2)
     else:
         s = canopy(12, 9)._replace(weights=np.random.default_rng(knot).uniform(0.5, 2, (12, 9)))
+        if kind == "mixed":
+            s = s._replace(uknots=clamped(12, 2), udegree=2, vknots=clamped(9, 4), vdegree=4)
     u, v = (a, b) if knot == 0 else (s.uknots[3 + knot], s.vknots[2 + knot])
     target = rational_eval(s, s.poles, u, v) + np.array(move)
     far = 0 if u > 0.5 else s.weights.size - 1         # a border pole: never movable anyway

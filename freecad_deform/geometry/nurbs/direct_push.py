@@ -17,6 +17,7 @@ Primitives (the paper's 4.2, here in 3D, for curves and surfaces):
   sides. On surfaces fixed points hold position and tangent plane by linear constraints.
 """
 import bisect
+import operator
 from typing import NamedTuple
 
 import numpy as np
@@ -65,11 +66,19 @@ def local_basis(knots, degree, t, derivative=0):
 
 
 def span_basis(knots, degree, t):
-    """(first, values): local_basis's degree + 1 values at t, by de Boor's triangle (The
-    NURBS Book, A2.2) on plain floats: a push evaluates them once, where building a scipy
-    BSpline costs ten times the whole push."""
+    """(first, values): local_basis's degree + 1 values at t on a knot list, by de Boor's
+    triangle on plain floats: a push evaluates them once, where building a scipy BSpline
+    costs ten times the whole push."""
     n = len(knots) - degree - 1
     k = min(max(bisect.bisect_right(knots, t) - 1, degree), n - 1)
+    if degree == 3:
+        return k - 3, _cubic_basis(knots, k, t)
+    return k - degree, _de_boor(knots, degree, k, t)
+
+
+def _de_boor(knots, degree, k, t):
+    """The degree + 1 basis values N_k-degree..N_k at t in knot span k (The NURBS Book,
+    A2.2)."""
     N, left, right = [1.0] + [0.0] * degree, [0.0] * (degree + 1), [0.0] * (degree + 1)
     for j in range(1, degree + 1):
         left[j], right[j] = t - knots[k + 1 - j], knots[k + j] - t
@@ -79,7 +88,26 @@ def span_basis(knots, degree, t):
             N[r] = saved + right[r + 1] * temp
             saved = left[j - r] * temp
         N[j] = saved
-    return k - degree, N
+    return N
+
+
+def _cubic_basis(U, k, t):
+    """_de_boor for degree 3 unrolled (the same operations in the same order, so the same
+    floats): bicubic faces are the common case and the loops cost a third of a push."""
+    l1, l2, l3 = t - U[k], t - U[k - 1], t - U[k - 2]
+    r1, r2, r3 = U[k + 1] - t, U[k + 2] - t, U[k + 3] - t
+    temp = 1.0 / (r1 + l1)
+    a0, a1 = r1 * temp, l1 * temp
+    temp = a0 / (r1 + l2)
+    b0, saved = r1 * temp, l2 * temp
+    temp = a1 / (r2 + l1)
+    b1, b2 = saved + r2 * temp, l1 * temp
+    temp = b0 / (r1 + l3)
+    c0, saved = r1 * temp, l3 * temp
+    temp = b1 / (r2 + l2)
+    c1, saved = saved + r2 * temp, l2 * temp
+    temp = b2 / (r3 + l1)
+    return [c0, c1, saved + r3 * temp, l1 * temp]
 
 
 def surface_row(s, u, v, du=0, dv=0):
@@ -242,7 +270,7 @@ def window(weights, size, low, high, first=0):
     widened evenly on both sides, or the heaviest ones when fewer are asked. `weights`
     may be those of poles first.. only (all others zero). Plain Python: a push calls it
     twice on a few values, where numpy's per-call cost would dominate."""
-    weights = weights.tolist() if isinstance(weights, np.ndarray) else list(weights)
+    weights = weights.tolist() if isinstance(weights, np.ndarray) else weights
     nonzero = [k for k, x in enumerate(weights) if x > 0]
     lo, hi = first + nonzero[0], first + nonzero[-1]
     size = min(size, high - low + 1)
@@ -252,7 +280,7 @@ def window(weights, size, low, high, first=0):
     else:
         start = lo - (size - (hi - lo + 1)) // 2
     start = min(max(start, low), high - size + 1)
-    return list(range(start, start + size))
+    return range(start, start + size)
 
 
 def straight_poles(c, a, b):
@@ -401,25 +429,32 @@ def _push_free(s, u, v, target, size):
     """push_surface without constraints, in closed form on the (p + 1) x (q + 1) poles
     the point depends on (R their rational basis times W): the least-norm move of the
     movable ones is r_k d / sum r_k^2 (the paper's formula), what least_norm's solve
-    gives for one row."""
+    gives for one row. The weights of those few poles are handled as Python floats and
+    numpy only evaluates the point and moves the poles: on arrays this small each numpy
+    call costs more than the arithmetic."""
     nu, nv = s.weights.shape
     iu, Nu = span_basis(s.uknots.tolist(), s.udegree, u)
     jv, Nv = span_basis(s.vknots.tolist(), s.vdegree, v)
     a, b = len(Nu), len(Nv)
-    R = np.multiply.outer(Nu, Nv) * s.weights[iu:iu + a, jv:jv + b]
-    W = float(R.sum())
-    grid = np.abs(R)
-    ii = window(grid.sum(axis=1), size, 1, nu - 2, iu)
-    jj = window(grid.sum(axis=0), size, 1, nv - 2, jv)
-    i0, i1 = max(ii[0], iu) if ii else iu, min(ii[-1] + 1, iu + a) if ii else iu
-    j0, j1 = max(jj[0], jv) if jj else jv, min(jj[-1] + 1, jv + b) if jj else jv
-    moved = R[i0 - iu:i1 - iu, j0 - jv:j1 - jv]
-    if moved.sum() < 1e-3 * W:
+    R = [[x * y * w for y, w in zip(Nv, ws)]
+         for x, ws in zip(Nu, s.weights[iu:iu + a, jv:jv + b].tolist())]
+    ii = window([sum(r) for r in R], size, 1, nu - 2, iu)
+    jj = window([sum(c) for c in zip(*R)], size, 1, nv - 2, jv)
+    i0, i1 = (max(ii[0], iu), min(ii[-1] + 1, iu + a)) if ii else (iu, iu)
+    j0, j1 = (max(jj[0], jv), min(jj[-1] + 1, jv + b)) if jj else (jv, jv)
+    moved = [x for r in R[i0 - iu:i1 - iu] for x in r[j0 - jv:j1 - jv]]
+    W = sum(map(sum, R))
+    if sum(moved) < 1e-3 * W:
         raise DeformError(BORDER, "Points")
-    d = np.asarray(target, float) - R.ravel() @ s.poles[iu:iu + a, jv:jv + b].reshape(-1, 3) / W
+    R = np.array(R)
+    point = np.dot(R.reshape(-1), s.poles[iu:iu + a, jv:jv + b].reshape(-1, 3)).tolist()
+    scale = W / sum(map(operator.mul, moved, moved))
+    target = np.asarray(target, float).tolist()
+    d = np.array([(t - p / W) * scale for t, p in zip(target, point)])
     poles = s.poles.copy()
-    poles[i0:i1, j0:j1] += np.multiply.outer(moved, d * (W / np.vdot(moved, moved)))
-    return s._replace(poles=poles)
+    block = poles[i0:i1, j0:j1]
+    block += R[i0 - iu:i1 - iu, j0 - jv:j1 - jv, None] * d
+    return type(s)(poles, *s[1:])
 
 
 def refine_surface(s, u, v, size):
