@@ -438,12 +438,13 @@ def _push_free(s, u, v, target, size):
     a, b = len(Nu), len(Nv)
     R = [[x * y * w for y, w in zip(Nv, ws)]
          for x, ws in zip(Nu, s.weights[iu:iu + a, jv:jv + b].tolist())]
-    ii = window([sum(r) for r in R], size, 1, nu - 2, iu)
-    jj = window([sum(c) for c in zip(*R)], size, 1, nv - 2, jv)
+    rows, columns = list(map(sum, R)), list(map(sum, zip(*R)))
+    W = sum(rows)
+    ii = window(rows, size, 1, nu - 2, iu)
+    jj = window(columns, size, 1, nv - 2, jv)
     i0, i1 = (max(ii[0], iu), min(ii[-1] + 1, iu + a)) if ii else (iu, iu)
     j0, j1 = (max(jj[0], jv), min(jj[-1] + 1, jv + b)) if jj else (jv, jv)
     moved = [x for r in R[i0 - iu:i1 - iu] for x in r[j0 - jv:j1 - jv]]
-    W = sum(map(sum, R))
     if sum(moved) < 1e-3 * W:
         raise DeformError(BORDER, "Points")
     R = np.array(R)
