@@ -429,9 +429,9 @@ def _push_free(s, u, v, target, size):
     """push_surface without constraints, in closed form on the (p + 1) x (q + 1) poles
     the point depends on (R their rational basis times W): the least-norm move of the
     movable ones is r_k d / sum r_k^2 (the paper's formula), what least_norm's solve
-    gives for one row. The weights of those few poles are handled as Python floats and
-    numpy only evaluates the point and moves the poles: on arrays this small each numpy
-    call costs more than the arithmetic."""
+    gives for one row. R >= 0 (weights are positive), so its row and column sums weigh
+    the window. R is built on Python floats and numpy only evaluates the point and moves
+    the poles: on arrays this small each numpy call costs more than the arithmetic."""
     nu, nv = s.weights.shape
     iu, Nu = span_basis(s.uknots.tolist(), s.udegree, u)
     jv, Nv = span_basis(s.vknots.tolist(), s.vdegree, v)
@@ -451,10 +451,10 @@ def _push_free(s, u, v, target, size):
     point = np.dot(R.reshape(-1), s.poles[iu:iu + a, jv:jv + b].reshape(-1, 3)).tolist()
     scale = W / sum(map(operator.mul, moved, moved))
     target = np.asarray(target, float).tolist()
-    d = np.array([(t - p / W) * scale for t, p in zip(target, point)])
+    step = np.array([(t - p / W) * scale for t, p in zip(target, point)])  # pole k: r_k step
     poles = s.poles.copy()
     block = poles[i0:i1, j0:j1]
-    block += R[i0 - iu:i1 - iu, j0 - jv:j1 - jv, None] * d
+    block += R[i0 - iu:i1 - iu, j0 - jv:j1 - jv, None] * step
     return type(s)(poles, *s[1:])
 
 
