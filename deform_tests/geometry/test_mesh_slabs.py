@@ -184,3 +184,44 @@ def test_triangles_crossing_none_one_or_several_planes(flipped):
     np.testing.assert_array_equal(Tt, T)
     back = Rotation.from_rotvec(-angle * np.clip(Vt[:, 0] / gap, 0, 1)[:, None] * n).apply(Vt)
     np.testing.assert_allclose(back, V, atol=1e-12)
+
+
+def test_uncut_rows_kept_and_pieces_split_along_the_shorter_diagonal():
+    """A triangle crossing no plane keeps its row; each one crossing one plane (no corner
+    on it) gives its lone corner's triangle and a quadrilateral on the other side, split
+    along the shorter of its two diagonals whichever side of the plane it lies on (the
+    lengths measured here on the untwisted result)."""
+    rng = np.random.default_rng(7)
+    n, origin, gap, samples = np.array([1.0, 0, 0]), np.zeros(3), 3.0, 3
+    V0, T0 = [], []
+    for k in range(300):                  # loose triangles, 3 apart in y
+        P = rng.uniform(-1, 1, (3, 3)) + [0, 3.0 * k, 0]
+        P[:, 0] = rng.uniform(-0.5, 3.5, 3)
+        V0.extend(P)
+        T0.append([3 * k, 3 * k + 1, 3 * k + 2])
+    V0, T0 = np.array(V0), np.array(T0)
+    V, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.0), samples)
+    level = V0[T0, 0] * samples / gap
+    cells = np.floor(level)
+    uncut = cells.min(axis=1) == cells.max(axis=1)
+    np.testing.assert_array_equal(T[:len(T0)][uncut], T0[uncut])
+    one = (cells.max(axis=1) - cells.min(axis=1) == 1) & (cells.max(axis=1) <= samples) & (
+        cells.max(axis=1) >= 0)
+    checked = 0
+    for t in np.flatnonzero(one & ~uncut):
+        y = 3.0 * t
+        mine = [set(x) for x in T if (np.abs(V[x, 1] - y) < 1.4).all()]
+        assert len(mine) == 3
+        cut_points = set().union(*mine) - set(T0[t])
+        assert len(cut_points) == 2
+        c = cells[t]
+        lone = T0[t][np.flatnonzero(c != np.median(c))[0]]  # the corner alone on its side
+        quad = [x for x in mine if lone not in x]
+        assert len(quad) == 2
+        diagonal = quad[0] & quad[1]
+        across = (quad[0] | quad[1]) - diagonal
+        assert len(diagonal) == 2 and len(across) == 2
+        length = [np.linalg.norm(np.subtract(*V[sorted(e)])) for e in (diagonal, across)]
+        assert length[0] <= length[1]
+        checked += 1
+    assert checked > 40
