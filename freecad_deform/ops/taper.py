@@ -26,7 +26,16 @@ def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
         point = pp.section_centroid(solids, origin, normal)
     _check_scale(shape, scale, point, rows[2], tolerance, gap)
     smap = taper_map(origin, normal, gap, scale, rows, point, profile)
-    result, deviation = mapped.map_shape(shape, smap, tolerance)
+    try:
+        result, deviation = mapped.map_shape(shape, smap, tolerance)
+    except mapped.FoldsPastPlanes as fold:
+        side = "before Plane" if fold.past < 0 else "beyond Plane2"
+        scales = np.atleast_1d(np.asarray(scale, float))
+        raise DeformError(f"Scale {scales[np.argmax(np.abs(scales - 1.0))]:g} takes the "
+                          f"taper's factor through zero {abs(fold.past):.3g} mm {side}, inside "
+                          f"the parameter range of a face the region cuts, whose refitted "
+                          f"surface would then fold (self-intersecting); bring Scale nearer 1 "
+                          f"or move Plane2 farther from Plane.", "Scale") from None
     return result, {**pp.volume_change(result, shape), "MaxDeviation": deviation,
                     **mapped.continuity_report(shape, smap)}
 

@@ -11,7 +11,9 @@ through the map:
 - any other plane: a B-spline in the plane's (u, v) turned to run along its lines of
   constant s, which every map keeps straight: degree 1 along them, fitted only up the slope;
 - every other face: a B-spline fitted to the mapped points in the face's own (u, v)
-  parametrisation (geometry.nurbs.surface_fit), the face rebuilt from its own pcurves.
+  parametrisation (geometry.nurbs.surface_fit), the face rebuilt from its own pcurves;
+  where its parameter rectangle reaches a fold of the map continued past the planes, the
+  face must pass OCCT's BOP check, else FoldsPastPlanes is raised.
 The mapped faces are sewn to the pieces' faces at the joints, which go into the pieces in
 place of their own (the rest of the solid untouched); where that fails, or the far part is
 scaled or a piece has voids, all faces are sewn (with the cut faces left out) into one
@@ -347,7 +349,7 @@ def map_face(face, smap, tol, points=None):
     if face.Surface.TypeId == "Part::GeomPlane":
         built, dev = _fitted_plane(face, smap, tol)
     else:
-        built, dev = _fitted(face, lambda p: smap(p, clamp=False), tol)
+        built, dev = _fitted(face, lambda p: smap(p, clamp=False), tol, smap)
     if getattr(smap, "affine", False):
         if face.Surface.TypeId == "Part::GeomPlane":
             return _on_surface(built, _plane_of(built)), dev
@@ -511,16 +513,21 @@ def _bspline_form(surface):
     return form
 
 
-def _fitted(face, point_map, tol):
+def _fitted(face, point_map, tol, smap=None):
     """The face on a B-spline fitted to its surface's points through `point_map` ((N, 3)
-    -> (N, 3); for a region face the map continued past the planes, so it is smooth over
-    the whole parameter rectangle), in the face's own parametrisation."""
+    -> (N, 3); for a region face the map `smap` continued past the planes, so it is smooth
+    over the whole parameter rectangle), in the face's own parametrisation. Where that
+    continuation folds inside the rectangle, the face is checked by OCCT's BOP check and
+    FoldsPastPlanes raised when it fails (see there)."""
     surface = face.Surface
     u0, u1, v0, v1 = face.ParameterRange
+    fold = []
 
     def mapped(U, V):
-        pts = surface_grid(surface, U, V)
-        return point_map(pts.reshape(-1, 3)).reshape(pts.shape)
+        pts = surface_grid(surface, U, V).reshape(-1, 3)
+        if smap is not None and not fold:
+            fold.extend(_fold_past_planes(smap, pts))
+        return point_map(pts).reshape(len(U), len(V), 3)
 
     ub, vb = _breaks(surface, u0, u1, 0), _breaks(surface, v0, v1, 1)
     fit = surface_fit.fit_surface(mapped, (u0, u1), (v0, v1), tol, degree=DEGREE,
@@ -530,12 +537,79 @@ def _fitted(face, point_map, tol):
         built = Part.Face(new)     # (seams and degenerated edges made right)
         if face.Orientation == "Reversed":
             built.reverse()
-        return built, fit.deviation
-    built = face_on_pcurves(new, face, lambda e, forward: forward.curveOnSurface(e))
+    else:
+        built = face_on_pcurves(new, face, lambda e, forward: forward.curveOnSurface(e))
+    if fold and (built is None or not _passes_bop_check(built)):
+        raise FoldsPastPlanes(fold[0])
     if built is None:
         raise DeformError("A mapped face could not be rebuilt on its fitted surface; "
                           "change Tolerance.", "Tolerance")
     return built, fit.deviation
+
+
+def _passes_bop_check(face):
+    """OCCT's BOP check of one face (a few tenths of a second on a refit face)."""
+    try:
+        face.check(True)
+    except ValueError:  # FreeCAD's report of the check's findings
+        return False
+    return True
+
+
+class FoldsPastPlanes(DeformError):
+    """A face's parameter rectangle reaches where the map, continued past the planes,
+    folds (a taper's factor 1 + (Scale - 1) t passes zero there), and its fitted surface,
+    folding there too (outside the face, inside the rectangle), fails OCCT's BOP check
+    (self-intersecting: a cone between planes slanted to its axis, Scale 2.43; with the
+    fold farther from the face the check may pass, and the face is kept). Leaving those
+    samples out of the fit, with a low-weighted stand-in that does not fold, gave a face
+    the check passes, but there the fold comes within a few hundredths of the rectangle of
+    the face, and the fit took 230 x 230 poles and 130 s without reaching its tolerance
+    (7.6e-5 mm): so the result is refused. `past`: how far (mm along the normal) before
+    Plane (negative) or beyond Plane2 (positive) the fold was met."""
+
+    def __init__(self, past):
+        side = "before Plane" if past < 0 else "beyond Plane2"
+        super().__init__(f"A face's parameter range reaches {abs(past):.3g} mm {side}, where "
+                         f"the deformation continued past the planes folds, and its refitted "
+                         f"surface would fold too; move Plane2 farther from Plane.", "Plane2")
+        self.past = past
+
+
+FOLD_SHARE = 1e-3  # the map counts as folding where its Jacobian determinant falls
+#                   below this share of its value at the plane the walk starts from
+FOLD_WALK = (16, 256)  # samples walked, steps along each walk
+
+
+def _fold_past_planes(smap, pts):
+    """[the distance along the normal past the planes (mm; negative before Plane) of the
+    fold nearest them] where the map continued past the planes folds between the region
+    and any of the points (N, 3), else []: walking from each plane out to the farthest
+    points along the normal (FOLD_WALK), the map's Jacobian determinant (central
+    differences) dips below FOLD_SHARE of its value at the plane. (Its sign alone does
+    not tell: a taper's factor f passing zero turns a section through the axis, and the
+    determinant f^2 stays positive.) Inside the region check_fold has made it positive."""
+    s = (pts - smap.origin) @ smap.normal / smap.gap
+    for side, out in ((0.0, s < 0.0), (1.0, s > 1.0)):
+        if not out.any():
+            continue
+        p, q = pts[out], s[out]
+        pick = np.unique(np.linspace(0, len(p) - 1, FOLD_WALK[0]).round().astype(int))
+        p, q = p[np.argsort(np.abs(q - side))][pick], np.sort(np.abs(q - side))[pick]
+        sign = 1.0 if side else -1.0
+        step = np.linspace(0.0, 1.0, FOLD_WALK[1])
+        # each picked point slid along the normal from the plane out to where it is
+        walk = (p[:, None, :] + ((side + sign * np.outer(q, step) - (side + sign * q)[:, None])
+                                 * smap.gap)[..., None] * smap.normal).reshape(-1, 3)
+        h = 1e-6 * smap.gap
+        cols = [(smap(walk + h * e, clamp=False) - smap(walk - h * e, clamp=False)) / (2 * h)
+                for e in np.eye(3)]
+        det = np.linalg.det(np.stack(cols, axis=-1)).reshape(len(p), -1)
+        folds = det < FOLD_SHARE * det[:, :1]
+        if folds.any():  # the fold nearest the plane
+            k, j = np.nonzero(folds)
+            return [sign * float(np.min(q[k] * step[j])) * smap.gap]
+    return []
 
 
 def _fitted_plane(face, smap, tol):
@@ -552,6 +626,11 @@ def _fitted_plane(face, smap, tol):
     o, x, y = surface_grid(face.Surface, [0.0, 1.0], [0.0, 1.0]).reshape(4, 3)[[0, 2, 1]]
     x, y = x - o, y - o  # a Part.Plane's unit, orthogonal u and v directions
     slope = np.array([x @ smap.normal, y @ smap.normal]) / smap.gap  # ds/du, ds/dv
+    if np.linalg.norm(slope) * np.ptp(np.array(face.ParameterRange).reshape(2, 2),
+                                      axis=1).max() < 1e-12:
+        # s spread by rounding only over a plane parallel to the planes: no slope to turn
+        # along (it would be 0 / 0); the general fit
+        return _fitted(face, lambda p: smap(p, clamp=False), tol, smap)
     cx, cy = slope / np.linalg.norm(slope)
     turn = np.array([[cy, -cx], [cx, cy]])  # (u', v') = turn @ (u, v), a rotation
     u0, u1, v0, v1 = face.ParameterRange
