@@ -19,7 +19,9 @@ from . import planes as pp
 
 def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
           tolerance=1e-3):
-    """(shape, {VolumeChange, MaxDeviation, Continuity, SplitFaces}) of a tapered B-rep."""
+    """(shape, {VolumeChange, MaxDeviation, Continuity, SplitFaces}) of a tapered B-rep.
+    Refused, naming Scale, where a refit face would fold where the factor, continued past
+    the planes over the face's parameter range, passes zero (mapped.FoldsPastPlanes)."""
     solids = brep.solids_of(shape)
     pp.check_crossing(solids, origin, normal, gap)
     if point is None:
@@ -32,10 +34,10 @@ def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
         side = "before Plane" if fold.past < 0 else "beyond Plane2"
         scales = np.atleast_1d(np.asarray(scale, float))
         raise DeformError(f"Scale {scales[np.argmax(np.abs(scales - 1.0))]:g} takes the "
-                          f"taper's factor through zero {abs(fold.past):.3g} mm {side}, inside "
-                          f"the parameter range of a face the region cuts, whose refitted "
-                          f"surface would then fold (self-intersecting); bring Scale nearer 1 "
-                          f"or move Plane2 farther from Plane.", "Scale") from None
+                          f"taper's factor down to zero about {abs(fold.past):.3g} mm {side}, "
+                          f"inside the parameter range of a face the region cuts, whose "
+                          f"refitted surface then folds (self-intersecting); bring Scale "
+                          f"nearer 1 or move Plane2 farther from Plane.", "Scale") from None
     return result, {**pp.volume_change(result, shape), "MaxDeviation": deviation,
                     **mapped.continuity_report(shape, smap)}
 
