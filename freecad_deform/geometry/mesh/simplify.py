@@ -23,7 +23,7 @@ from ..vectors import unit
 INTERIOR, LINE, CORNER = 0, 1, 2
 MAX_TURN_COS = 0.5  # a collapse may turn a remaining triangle's normal by less than 60 degrees
 MIN_AREA = 1e-12    # ... and must leave its doubled area above this times the bbox diagonal^2
-CHUNK = 4096       # x 16 point-triangle pairs measured at once by _far (memory)
+CHUNK = 4096       # x 16 point-triangle pairs measured at once by _far_labels (memory)
 
 
 class Simplified(NamedTuple):
@@ -65,7 +65,7 @@ def simplify(vertices, triangles, labels, tolerance) -> Simplified:
     return Simplified(delaunay_flips(V, T2, lab2), lab2)
 
 
-def _far(V, T, lab, T2, lab2, limit, k=4):
+def _far_labels(V, T, lab, T2, lab2, limit, k=4):
     """The labels of the regions with a vertex beyond `limit` of their simplified
     triangles (T2, lab2), each vertex measured in every region it is in: the outline route
     measures only vertices away from the outlines, and a region collapsed on its own can
@@ -519,7 +519,7 @@ class _Outlines:
         disks next to them that fail on lines of their own) collapsed and their lines
         taken from there, the other lines by Douglas-Peucker, every other region from its
         outline. A region that fails there, or whose vertices end beyond MAX_FAR
-        tolerances of its triangles (_far), is then collapsed on its own inside its
+        tolerances of its triangles (_far_regions), is then collapsed on its own inside its
         decided outline, whose other vertices go first; a flat or curved neighbour is
         built again with any of them that stayed. _Unfit (the whole mesh collapsed) when
         one stays on a tube's line or a region ends too far all the same."""
@@ -536,10 +536,10 @@ class _Outlines:
             mask = slow[self.region]
             if np.count_nonzero(mask) > SLOW_SHARE * len(T):
                 raise _Unfit                    # little left to gain: collapse it all
-            tris = self._collapsed_alone(mask, keep, decided)
+            tris, labels = self._collapsed_alone(mask, keep, decided)
             keep[np.unique(tris)] = True
             decided[T[mask]] = True
-            parts.update(self._by_region(tris, mask))
+            parts.update(self._by_region(tris, labels, mask))
         for k in range(K):
             for loop in self.loops[k]:
                 self._lines(loop, keep, decided)
@@ -550,14 +550,14 @@ class _Outlines:
             except _Unfit:
                 failed.append(k)
         built = [k for k in np.flatnonzero(~slow).tolist() if k in parts]
-        failed += self._far(parts, built)
+        failed += self._far_regions(parts, built)
         check = set(np.flatnonzero(slow).tolist())
         if failed:
             for k in failed:
                 parts.pop(k, None)
             mask = np.isin(self.region, failed)
-            tris = self._collapsed_alone(mask, keep, decided)
-            parts.update(self._by_region(tris, mask))
+            tris, labels = self._collapsed_alone(mask, keep, decided)
+            parts.update(self._by_region(tris, labels, mask))
             # outline vertices that collapse kept go into the neighbours' outlines
             extra = np.zeros(n, bool)
             extra[np.unique(tris)] = True
@@ -570,7 +570,7 @@ class _Outlines:
                     parts[k] = self._built(k, flat[k], keep)
                     check.add(k)
             check |= set(failed)
-        if self._far(parts, sorted(check)):
+        if self._far_regions(parts, sorted(check)):
             raise _Unfit
         T2 = np.concatenate([parts[k] for k in range(K)]).astype(np.int64)
         # two regions may each span the same chord of their common line (an ear of three
@@ -628,31 +628,32 @@ class _Outlines:
         return flat, disk
 
     def _collapsed_alone(self, mask, keep, decided):
-        """The triangles (original ids) of the triangles `mask` collapsed on their own,
-        the vertices `keep` staying, the others `decided` (on lines decided before) going
-        first."""
+        """(triangles (original ids), their labels) of the triangles `mask` collapsed on
+        their own, the vertices `keep` staying, the others `decided` (on lines decided
+        before) going first."""
         V, T = self.V, self.T
         ids, sub = np.unique(T[mask], return_inverse=True)
         S = _collapsed(V[ids], sub.reshape(-1, 3), self.labels[self.region[mask]], self.tol,
                        keep[ids], (decided & ~keep)[ids])
-        self.collapsed_labels = S.labels
-        return ids[S.triangles]
+        return ids[S.triangles], S.labels
 
-    def _by_region(self, tris, mask):
-        """{region index: its triangles} of triangles `tris` from _collapsed_alone(mask)."""
-        region = np.searchsorted(self.labels, self.collapsed_labels)
+    def _by_region(self, tris, labels, mask):
+        """{region index: its triangles} of triangles `tris` with `labels` from
+        _collapsed_alone(mask)."""
+        region = np.searchsorted(self.labels, labels)
         return {int(k): tris[region == k] for k in np.unique(self.region[mask])}
 
-    def _far(self, parts, regions):
+    def _far_regions(self, parts, regions):
         """The regions among `regions` with a vertex beyond MAX_FAR tolerances of their
-        triangles in `parts` (see the module's _far)."""
+        triangles in `parts` (see _far_labels)."""
         if not regions:
             return []
         tris = [parts[k] for k in regions]
         T2 = np.concatenate(tris).astype(np.int64)
         lab2 = np.repeat(regions, [len(t) for t in tris])
         mask = np.isin(self.region, regions)
-        return _far(self.V, self.T[mask], self.region[mask], T2, lab2, MAX_FAR * self.tol)
+        return _far_labels(self.V, self.T[mask], self.region[mask], T2, lab2,
+                           MAX_FAR * self.tol)
 
     def _built(self, k, flat, keep):
         """Region k's triangles from its outline's vertices `keep` (_Unfit if it fails)."""
