@@ -4,7 +4,7 @@ four-sided face, and a face replaced in its shell or solid."""
 import FreeCAD as App
 import numpy as np
 import Part
-from scipy.optimize import linear_sum_assignment
+from scipy.optimize import linear_sum_assignment, minimize_scalar
 
 from ..geometry.nurbs.bspline_area import Surface
 from ..geometry.nurbs import direct_push as dp
@@ -495,27 +495,104 @@ def with_surface(shape, index, surface):
     return result if new.isValid() and all(f.isValid() for f in changed.values()) else None
 
 
-def pcurve_gaps(face, per_span=17):
+def _knots_in(knots, period, a, b):
+    """The knots strictly inside (a, b), repeated by `period` (0: not periodic)."""
+    k = np.asarray(knots, float)
+    if period:
+        k = np.concatenate([k[:-1] + i * period for i in range(
+            int(np.floor((a - k[-1]) / period)), int(np.ceil((b - k[0]) / period)) + 1)])
+    return k[(k > a) & (k < b)]
+
+
+def _curve_knots(curve, a, b):
+    if not hasattr(curve, "getKnots"):
+        return np.zeros(0)
+    knots = curve.getKnots()
+    return _knots_in(knots, knots[-1] - knots[0] if curve.isPeriodic() else 0.0, a, b)
+
+
+def _crossings(c2d, surface, ts):
+    """Parameters of the pcurve where it crosses a knot line of a B-spline surface,
+    interpolated between the parameters `ts` (exact for a straight pcurve)."""
+    if not hasattr(surface, "getUKnots"):
+        return np.zeros(0)
+    uv = np.array([(p.x, p.y) for p in map(c2d.value, ts)])
+    out = []
+    for axis, knots, periodic, period in (
+            (0, surface.getUKnots(), surface.isUPeriodic(), "UPeriod"),
+            (1, surface.getVKnots(), surface.isVPeriodic(), "VPeriod")):
+        x = uv[:, axis]
+        lo, hi = x.min(), x.max()
+        if hi <= lo:
+            continue
+        k = _knots_in(knots, getattr(surface, period)() if periodic else 0.0, lo, hi)
+        for i in range(len(ts) - 1):
+            x0, x1 = x[i], x[i + 1]
+            inside = k[(k > min(x0, x1)) & (k < max(x0, x1))]
+            out.append(ts[i] + (inside - x0) / (x1 - x0) * (ts[i + 1] - ts[i]))
+    return np.concatenate(out) if out else np.zeros(0)
+
+
+def _degree(geom):
+    """A B-spline's or Bezier's degree (the larger of a surface's two); 1 for a line, 2
+    for a conic or an analytic surface."""
+    if hasattr(geom, "UDegree"):
+        return max(geom.UDegree, geom.VDegree)
+    return getattr(geom, "Degree", 1 if "Line" in type(geom).__name__ else 2)
+
+
+def _largest_gap(face, edge, c2d, a, b, per_span, refined=3):
+    """The largest distance between the edge's 3D curve and its pcurve on the face at the
+    same parameter: samples in every piece where the gap is smooth (between the knots of
+    the pcurve and of the 3D curve and the pcurve's crossings of the surface's knot lines:
+    its peaks sit near them), twice as many as the gap can have bumps there (a degree-12
+    3D curve against a degree-7 pcurve: 11), then a bounded search about each of the
+    `refined` largest local maxima."""
+    surface, curve = face.Surface, edge.Curve
+
+    def gap(t):
+        uv = c2d.value(t)
+        return (surface.value(uv.x, uv.y) - edge.valueAt(t)).Length
+
+    cuts = np.unique(np.concatenate([[a, b], _curve_knots(c2d, a, b),
+                                     _curve_knots(curve, a, b)]))
+    coarse = np.unique(np.concatenate([np.linspace(t0, t1, 9)
+                                       for t0, t1 in zip(cuts, cuts[1:])]))
+    cuts = np.unique(np.concatenate([cuts, _crossings(c2d, surface, coarse)]))
+    count = max(per_span, 2 * (_degree(curve) + _degree(c2d) + _degree(surface)) + 1)
+    ts = np.unique(np.concatenate([np.linspace(t0, t1, count)
+                                   for t0, t1 in zip(cuts, cuts[1:])]))
+    gaps = np.array([gap(t) for t in ts])
+    padded = np.concatenate([[-1.0], gaps, [-1.0]])
+    peaks = np.flatnonzero((gaps >= padded[:-2]) & (gaps >= padded[2:]))
+    worst = gaps.max()
+    for i in peaks[np.argsort(gaps[peaks])[::-1][:refined]]:
+        lo, hi = ts[max(i - 1, 0)], ts[min(i + 1, len(ts) - 1)]
+        found = minimize_scalar(lambda t: -gap(t), bounds=(lo, hi), method="bounded",
+                                options={"xatol": 1e-4 * (hi - lo)})
+        worst = max(worst, -found.fun)
+    return worst
+
+
+def pcurve_gaps(face, per_span=9):
     """[(edge, largest distance between its 3D curve and its pcurve on `face`, at the same
-    parameter)] for the face's edges, sampled per knot span of the pcurve (the peaks sit
-    near its knots); inf where an edge has no pcurve. OCCT's projected pcurves on a
-    rational surface (a converted circle) can follow another parametrisation: isValid()
-    passes, the BOP check and booleans fail."""
-    surface, out = face.Surface, []
+    parameter)] for the face's edges (both pcurves of a seam); inf where an edge has no
+    pcurve. OCCT's projected pcurves on a rational surface (a converted circle) can follow
+    another parametrisation, and a refit surface's many spans bend a pcurve's image away
+    from the 3D curve between samples: isValid() (23 samples an edge) passes, the BOP
+    check (BOPAlgo_InvalidCurveOnSurface) and booleans fail."""
+    out = []
     for edge in face.Edges:
         if edge.Degenerated:
             continue
-        found = face.curveOnSurface(edge)
-        if found is None:
-            out.append((edge, np.inf))
-            continue
-        c2d, a, b = found
-        knots = np.array(c2d.getKnots() if hasattr(c2d, "getKnots") else [], float)
-        cuts = np.unique(np.concatenate([[a, b], knots[(knots > a) & (knots < b)]]))
-        ts = np.unique(np.concatenate([np.linspace(t0, t1, per_span)
-                                       for t0, t1 in zip(cuts, cuts[1:])]))
-        out.append((edge, max((surface.value(uv.x, uv.y) - edge.valueAt(t)).Length
-                              for t in ts for uv in [c2d.value(t)])))
+        worst = 0.0
+        for e in (edge, edge.reversed()) if edge.isSeam(face) else (edge,):
+            found = face.curveOnSurface(e)
+            if found is None:
+                worst = np.inf
+                break
+            worst = max(worst, _largest_gap(face, e, *found, per_span))
+        out.append((edge, worst))
     return out
 
 
@@ -527,8 +604,8 @@ def settle_tolerances(face):
     for edge, gap in pcurve_gaps(face):
         worst = max(worst, gap)
         if np.isfinite(gap) and 2.0 * gap > edge.Tolerance:
-            # twice the sampled gap: the samples miss the peak that OCCT's check finds
-            # (a tapered cone's edge: 2.16e-7 sampled, rejected at 2.21e-7)
+            # twice the gap found: a margin over OCCT's own search for the peak (a
+            # tapered cone's edge was rejected at 2.21e-7 for 2.16e-7 measured)
             edge.limitTolerance(2.0 * gap)
     return worst
 
