@@ -47,7 +47,7 @@ def _make(proxy_class, base, values):
         obj = _create(proxy_class, base, proxy_class.TYPE)
         name = obj.Name
         for prop, value in values.items():
-            setattr(obj, prop, value)
+            _set(obj, prop, value)
         doc.recompute()
         done = True
     finally:
@@ -60,6 +60,21 @@ def _make(proxy_class, base, values):
                 doc.removeObject(name)
             base.Visibility = shown
     return obj
+
+
+def _set(obj, prop, value):
+    """obj.prop = value; FreeCAD's refusal (an angle of 1e300 overflows its property with a
+    SystemError) as a DeformError naming prop."""
+    try:
+        setattr(obj, prop, value)
+    except (OverflowError, SystemError, ValueError, TypeError, App.Base.FreeCADError) as e:
+        cause = e.__cause__ or e.__context__ or e
+        why = cause.args[0] if cause.args else type(cause).__name__
+        why = why.get("sErrMsg", why) if isinstance(why, dict) else why  # FreeCAD's errors
+        shown = repr(value)
+        shown = shown if len(shown) <= 60 else shown[:57] + "..."
+        raise DeformError(f"{prop} cannot hold {shown} ({why}); give {prop} a value its "
+                          f"property can hold.", prop) from e
 
 
 def _second_plane(plane2):
@@ -86,6 +101,9 @@ def make_twist(base, plane, plane2, angle, axis=None):
         getattr(angle, "Value", angle))
     finite = bool(np.isfinite(degrees))  # not finite: NaN, which Angle keeps and refuses
     turns = int(degrees / 360.0) if finite else 0
+    if abs(turns) >= 2 ** 31:
+        raise DeformError(f"Angle {degrees:.4g} deg is more whole turns than the Turns "
+                          f"property can count (2^31); give Angle a smaller value.", "Angle")
     values = {"Plane": plane_placement(plane), "Plane2": plane_placement(plane2, "Plane2"),
               "Angle": degrees - 360.0 * turns if finite else float("nan"), "Turns": turns}
     if axis is not None:

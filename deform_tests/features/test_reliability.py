@@ -352,12 +352,13 @@ class ReliabilityTest(unittest.TestCase):
                                    delta=1e-6)
 
     def test_cloud_stretch_beyond_any_memory_is_refused(self):
-        """A point cloud stretched by 1e12 mm would fill the gap with 1e12 points (a 1.46
-        TiB array: MemoryError); it is refused naming Distance, and fast."""
+        """A point cloud stretched by 1e8 mm would fill the gap with 1e8 points (a 2.4 GB
+        array; 1e12 mm, 1.46 TiB, a MemoryError, is now beyond the 1e9 mm every length
+        keeps below); it is refused naming Distance, and fast."""
         cloud = self.doc.addObject("Points::Feature", "Cloud")
         cloud.Points = Points.Points([(x, y, 0.0) for x in range(-20, 21, 5)
                                       for y in range(-10, 11, 5)])
-        s = fd.make_stretch(cloud, (V(0.5, 0, 0), V(1, 0, 0)), 1e12)
+        s = fd.make_stretch(cloud, (V(0.5, 0, 0), V(1, 0, 0)), 1e8)
         self.assertIn("keep Distance below", self.assert_refused(s, "Distance"))
 
     def test_bend_by_nothing_of_a_reversed_solid(self):

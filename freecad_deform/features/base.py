@@ -75,6 +75,36 @@ def _finite(value):
                                             and abs(value) < sys.float_info.max)
 
 
+LARGEST = 1e9  # mm: beyond it doubles lie farther apart than OCCT's 1e-7 mm Confusion
+LENGTHS = ("App::PropertyLength", "App::PropertyDistance", "App::PropertyVectorDistance",
+           "App::PropertyVectorList", "App::PropertyPlacement", "App::PropertyPlacementList")
+
+
+def _largest(value):
+    """The largest coordinate or length (mm) in `value`: a length Quantity, a Vector, a
+    Placement's position, or a list of them."""
+    if isinstance(value, (list, tuple)):
+        return max((_largest(v) for v in value), default=0.0)
+    if hasattr(value, "Rotation"):  # Placement
+        value = value.Base
+    if hasattr(value, "x") and hasattr(value, "z"):  # Vector
+        return max(abs(value.x), abs(value.y), abs(value.z))
+    return abs(getattr(value, "Value", value))
+
+
+def check_magnitudes(obj, properties):
+    """No length or position beyond LARGEST: there OCCT can no longer tell points apart
+    (its errors would name nothing the user set)."""
+    for p in properties:
+        if p.output or not (p.type in LENGTHS or p.unit == "mm"):
+            continue
+        largest = _largest(getattr(obj, p.name))
+        if largest > LARGEST:
+            raise DeformError(f"{p.name} reaches {largest:.3g} mm, beyond 1e9 mm, where OCCT "
+                              f"can no longer tell points 1e-7 mm apart; give {p.name} a "
+                              f"value under 1e9 mm.", p.name)
+
+
 def check_finite(obj, properties):
     """Every number the user set must be finite: NaN or infinity would reach OCCT and the
     solvers (some never return)."""
@@ -156,9 +186,11 @@ class DeformFeature(Stateless):
             raise
 
     def check_inputs(self, obj):
-        """No self-link or cycle through Base, no NaN or infinite property value."""
+        """No self-link or cycle through Base, no NaN or infinite property value, no
+        length beyond LARGEST."""
         check_links(obj)
         check_finite(obj, self.PROPERTIES)
+        check_magnitudes(obj, self.PROPERTIES)
 
     def __init__(self, obj):
         obj.Proxy = self

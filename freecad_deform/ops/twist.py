@@ -18,6 +18,11 @@ from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
 from . import planes as pp
 
+# The most one mesh slab may turn: flat triangles between sections turned further cross
+# each other (measured: a thin-walled C section at 60 deg, an L and a holed block at 75;
+# a box at 100)
+MESH_SLAB_TURN = np.pi / 4
+
 
 def solid(shape, origin, normal, gap, angle, axis=None, samples=16, profile="Linear",
           tolerance=1e-3):
@@ -33,7 +38,13 @@ def solid(shape, origin, normal, gap, angle, axis=None, samples=16, profile="Lin
 
 def mesh(base, origin, normal, gap, angle, axis=None, samples=16):
     """(Mesh, {VolumeChange}): the region cut into `samples` slabs, each vertex turned by its
-    fraction of the gap."""
+    fraction of the gap; a slab turned by more than MESH_SLAB_TURN is refused."""
+    if abs(angle) > samples * MESH_SLAB_TURN:
+        raise DeformError(f"Angle turns each of the {samples} Samples slabs by "
+                          f"{np.degrees(abs(angle)) / samples:.4g} deg, more than the 45 deg "
+                          f"their flat triangles can follow; raise Samples to at least "
+                          f"{int(np.ceil(abs(angle) / MESH_SLAB_TURN))} or lower Angle.",
+                          "Samples")
     v, t = mesh_arrays(base)
     axis = axis or (pp.section_centroid_mesh(base, origin, normal, (v, t)), normal)
     of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
