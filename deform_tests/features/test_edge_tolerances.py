@@ -61,8 +61,9 @@ class PcurveGaps(unittest.TestCase):
             for edge, gap in bspline.pcurve_gaps(face):
                 dense = dense_gap(face, edge)
                 self.assertGreater(dense, 1e-8)   # a gap the sampling must find
-                # a lower bound of the true peak, as the dense one is: at least as large
-                self.assertGreaterEqual(gap, 0.98 * dense, (spans, edge.Curve.Degree))
+                # within 10 % of the dense one, both below the true peak (the settled
+                # tolerance is twice the gap); 5e70f3e's read as little as 4 %
+                self.assertGreaterEqual(gap, 0.9 * dense, (spans, edge.Curve.Degree))
 
     def test_a_seam_edge_has_both_pcurves_measured(self):
         face = Part.makeCylinder(5, 10).Faces[0]
@@ -76,7 +77,7 @@ class PcurveGaps(unittest.TestCase):
         for edge in face.Edges:
             edge.fixTolerance(1e-9)
         worst = bspline.settle_tolerances(face)
-        self.assertGreaterEqual(worst, 0.98 * max(dense_gap(face, e) for e in face.Edges))
+        self.assertGreaterEqual(worst, 0.9 * max(dense_gap(face, e) for e in face.Edges))
         for edge in face.Edges:
             self.assertLessEqual(dense_gap(face, edge), edge.Tolerance)
         face.check(True)   # raises on BOPAlgo_InvalidCurveOnSurface

@@ -522,56 +522,65 @@ def _crossings(c2d, surface, ts):
             (0, surface.getUKnots(), surface.isUPeriodic(), "UPeriod"),
             (1, surface.getVKnots(), surface.isVPeriodic(), "VPeriod")):
         x = uv[:, axis]
-        lo, hi = x.min(), x.max()
-        if hi <= lo:
+        k = _knots_in(knots, getattr(surface, period)() if periodic else 0.0, x.min(), x.max())
+        if not len(k):
             continue
-        k = _knots_in(knots, getattr(surface, period)() if periodic else 0.0, lo, hi)
-        for i in range(len(ts) - 1):
-            x0, x1 = x[i], x[i + 1]
-            inside = k[(k > min(x0, x1)) & (k < max(x0, x1))]
-            out.append(ts[i] + (inside - x0) / (x1 - x0) * (ts[i + 1] - ts[i]))
+        x0, x1 = x[:-1], x[1:]
+        first = np.searchsorted(k, np.minimum(x0, x1), side="right")
+        stop = np.searchsorted(k, np.maximum(x0, x1), side="left")
+        i = np.repeat(np.arange(len(x0)), np.maximum(stop - first, 0))
+        if not len(i):
+            continue
+        j = np.concatenate([np.arange(f, s) for f, s in zip(first, stop) if s > f])
+        out.append(ts[i] + (k[j] - x0[i]) / (x1[i] - x0[i]) * (ts[i + 1] - ts[i]))
     return np.concatenate(out) if out else np.zeros(0)
 
 
+def _spread(cuts, count):
+    """`count` parameters in each interval between consecutive `cuts` (sorted), ends
+    shared, closer together toward the ends (Chebyshev-Lobatto: a polynomial's largest
+    values there are the steepest)."""
+    steps = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, count)[:-1])
+    inner = cuts[:-1, None] + (cuts[1:] - cuts[:-1])[:, None] * steps
+    return np.append(inner.ravel(), cuts[-1])
+
+
 def _degree(geom):
-    """A B-spline's or Bezier's degree (the larger of a surface's two); 1 for a line, 2
-    for a conic or an analytic surface."""
+    """A B-spline's or Bezier's degree (the larger of a surface's two); None for a line,
+    conic or analytic surface."""
     if hasattr(geom, "UDegree"):
         return max(geom.UDegree, geom.VDegree)
-    return getattr(geom, "Degree", 1 if "Line" in type(geom).__name__ else 2)
+    return getattr(geom, "Degree", None)
 
 
-def _largest_gap(face, edge, c2d, a, b, per_span, refined=3):
+def _largest_gap(face, edge, c2d, a, b, per_span):
     """The largest distance between the edge's 3D curve and its pcurve on the face at the
-    same parameter: samples in every piece where the gap is smooth (between the knots of
-    the pcurve and of the 3D curve and the pcurve's crossings of the surface's knot lines:
-    its peaks sit near them), twice as many as the gap can have bumps there (a degree-12
-    3D curve against a degree-7 pcurve: 11), then a bounded search about each of the
-    `refined` largest local maxima."""
+    same parameter. Where a B-spline is involved: samples in every piece where the gap is
+    smooth (between the knots of the pcurve and of the 3D curve and the pcurve's crossings
+    of the surface's knot lines: its peaks sit near them), the highest degree and two
+    more (a degree-12 3D curve: 11 bumps), then a bounded search about the largest;
+    `per_span` samples else (lines, conics, analytic surfaces: no spans, no bumps)."""
     surface, curve = face.Surface, edge.Curve
 
     def gap(t):
         uv = c2d.value(t)
         return (surface.value(uv.x, uv.y) - edge.valueAt(t)).Length
 
+    degrees = [d for d in map(_degree, (curve, c2d, surface)) if d is not None]
+    if not degrees:
+        return max(gap(t) for t in np.linspace(a, b, per_span))
     cuts = np.unique(np.concatenate([[a, b], _curve_knots(c2d, a, b),
                                      _curve_knots(curve, a, b)]))
-    coarse = np.unique(np.concatenate([np.linspace(t0, t1, 9)
-                                       for t0, t1 in zip(cuts, cuts[1:])]))
-    cuts = np.unique(np.concatenate([cuts, _crossings(c2d, surface, coarse)]))
-    count = max(per_span, 2 * (_degree(curve) + _degree(c2d) + _degree(surface)) + 1)
-    ts = np.unique(np.concatenate([np.linspace(t0, t1, count)
-                                   for t0, t1 in zip(cuts, cuts[1:])]))
-    gaps = np.array([gap(t) for t in ts])
-    padded = np.concatenate([[-1.0], gaps, [-1.0]])
-    peaks = np.flatnonzero((gaps >= padded[:-2]) & (gaps >= padded[2:]))
-    worst = gaps.max()
-    for i in peaks[np.argsort(gaps[peaks])[::-1][:refined]]:
-        lo, hi = ts[max(i - 1, 0)], ts[min(i + 1, len(ts) - 1)]
-        found = minimize_scalar(lambda t: -gap(t), bounds=(lo, hi), method="bounded",
-                                options={"xatol": 1e-4 * (hi - lo)})
-        worst = max(worst, -found.fun)
-    return worst
+    cuts = np.unique(np.concatenate([cuts, _crossings(c2d, surface, _spread(cuts, 5))]))
+    ts = _spread(cuts, max(per_span, max(degrees) + 2))
+    gaps = [gap(t) for t in ts]
+    i = int(np.argmax(gaps))
+    if gaps[i] < 1e-9:
+        return gaps[i]   # the curves coincide (an isoline): no tolerance depends on it
+    lo, hi = ts[max(i - 1, 0)], ts[min(i + 1, len(ts) - 1)]
+    found = minimize_scalar(lambda t: -gap(t), bounds=(lo, hi), method="bounded",
+                            options={"xatol": 1e-3 * (hi - lo)})
+    return max(gaps[i], -found.fun)
 
 
 def pcurve_gaps(face, per_span=9):
