@@ -11,7 +11,7 @@ import numpy as np
 
 from ..errors import DeformError
 from ..blocks import BLOCK, compress_rows, tiled
-from .cut import arrays, placed, seam, split
+from .cut import arrays, placed, seam, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, signed_distance, unit_as_given, unit_normal
 from ..vectors import skew, unit
@@ -208,30 +208,27 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane): sorted by
     level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c on the
     other are zipped from a to c, each quadrilateral between two planes split along its
-    shorter diagonal. Most triangles cross one plane with no corner on it: theirs are
-    written directly (_simple_pieces), the quadrilateral on either side of the plane split
-    along its shorter diagonal. The cost is linear in the output (no triangle is cut
+    shorter diagonal (a triangle crossing one plane, most of them, gets its pieces written
+    directly, the same ones). The cost is linear in the output (no triangle is cut
     twice). Original vertices keep their indices, new ones are appended; orientation is
-    kept; a triangle crossing no plane keeps its row, a cut one's row holds its first
-    piece, the other pieces follow.
+    kept; the triangles crossing no plane are kept as they are, in their order, then the
+    new ones.
     Large rows are gathered with take: fancy or boolean indexing of rows is 3 to 10x slower.
     """
     N = len(V)
     h = gap / samples
     # per vertex, BLOCK at a time (in the cache), in one pass: the check that it is finite,
-    # its signed distance s (as planes.signed_distance computes it), its level u = s / h in
-    # plane units, the vertices within eps of a plane j (snapped: exactly on it, u = j;
-    # found among those with u within eps / h of a whole number), u clipped so that
-    # floor/ceil stay integers, its cell between planes, its place and its fraction; W and
-    # fractions get room for the cut points too (grown below when a cut makes more)
+    # its signed distance s (as planes.signed_distance computes it), the nearest plane j,
+    # the vertices within eps of it (snapped), the level u in plane units (exact on the
+    # planes; clipped so that floor/ceil stay integers), its cell between planes, its
+    # place and its fraction; W and fractions get room for the cut points too (grown
+    # below when a cut makes more)
     room = N + N // 4 + 1024
     W, fractions = np.empty((room, 3)), np.empty(room)
     s, u = np.empty(N), np.empty(N)
     ns = unit_as_given(n)
     minus_o = tiled(-o, N)
     rows = np.empty(min(BLOCK, N) * 3)
-    off = np.empty(min(BLOCK, N))
-    near_u = eps / h * (1 + 1e-6) + 1e-15 * (samples + 2)     # rounding of u and of j h
     small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
     cell = np.empty(N, small)
     lo, hi = np.inf, -np.inf
@@ -241,31 +238,30 @@ def slab_cut(V, T, o, n, gap, samples, eps):
             raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
                               "infinity); repair or replace the Base mesh.", "Base")
         end = i + len(v)
-        s_i, u_i, w, f_i, x = s[i:end], u[i:end], W[i:end], fractions[i:end], off[:len(v)]
+        s_i, u_i, w, f_i = s[i:end], u[i:end], W[i:end], fractions[i:end]
         r = rows[:v.size]
         np.add(v.reshape(-1), minus_o[:v.size], out=r)
         np.matmul(r.reshape(-1, 3), ns, out=s_i)
         lo, hi = np.minimum(lo, s_i.min()), np.maximum(hi, s_i.max())  # NaN stays
-        np.divide(s_i, h, out=u_i)
-        np.rint(u_i, out=x)
-        np.subtract(u_i, x, out=x)
-        np.abs(x, out=x)
-        w[...] = v
-        if (x <= near_u).any():
-            maybe = np.flatnonzero(x <= near_u)
-            j = np.clip(np.rint(u_i.take(maybe)), 0, samples)
-            d = s_i.take(maybe) - gap * j / samples
-            near = np.abs(d) <= eps
-            on, d_on, j_on = maybe[near], d[near], j[near]
+        j = np.rint(s_i / h)
+        np.clip(j, 0, samples, out=j)
+        d = s_i - gap * j / samples
+        near = np.abs(d) <= eps
+        on = np.flatnonzero(near) if near.any() else None
+        if on is not None:
+            d_on, j_on = d.take(on), j.take(on)
             s_i[on] -= d_on
+        np.divide(s_i, h, out=u_i)
+        if on is not None:
             u_i[on] = j_on
-            w[on] -= d_on[:, None] * n
-        np.maximum(u_i, -1.0, out=u_i)
-        np.minimum(u_i, samples + 1.0, out=u_i)
+        np.clip(u_i, -1.0, samples + 1.0, out=u_i)
         np.floor(u_i, out=cell[i:i + BLOCK], casting="unsafe")
-        np.maximum(u_i, 0.0, out=f_i)
-        np.minimum(f_i, samples, out=f_i)
-        np.divide(f_i, samples, out=f_i)
+        w[...] = v
+        np.divide(s_i, gap, out=f_i)
+        np.clip(f_i, 0.0, 1.0, out=f_i)
+        if on is not None:
+            w[on] -= d_on[:, None] * n
+            f_i[on] = j_on / samples
     ends = np.array([lo, hi])
     if not N:
         raise DeformError("The Base mesh has no vertices; give Base a mesh with triangles.",
@@ -285,44 +281,31 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     maybe = np.concatenate(maybe) if maybe else np.empty(0, np.int64)
     Tm = T.take(maybe, axis=0)
     u0, u1, u2 = u.take(Tm).T
-    # most cross one plane j with no corner on it, their corners in the cells j - 1 and j:
-    # one corner (L) alone on its side, the other two (A, B) after it in the triangle's
-    # order; their pieces are made directly (_simple_pieces). The others are sorted.
-    c0, c1, c2 = cell.take(Tm).T
-    j_s = np.maximum(np.maximum(c0, c1), c2)
-    simple = ((j_s - np.minimum(np.minimum(c0, c1), c2) == 1) & (j_s <= samples)
-              & (u0 != j_s) & (u1 != j_s) & (u2 != j_s))
-    ones = np.flatnonzero(simple)
-    lone = np.where(c1 == c2, 0, np.where(c0 == c2, 1, 2)).take(ones)
-    L, A, B = np.take_along_axis(Tm.take(ones, axis=0),
-                                 (lone[:, None] + np.arange(3)) % 3, axis=1).T
-    j_s = j_s.take(ones).astype(np.int64)
-    rest = np.flatnonzero(~simple)
-    f_ac, n_ac = _planes_between(np.minimum(np.minimum(u0, u1), u2).take(rest),
-                                 np.maximum(np.maximum(u0, u1), u2).take(rest), samples)
-    hit = rest.take(np.flatnonzero(n_ac))
-    rows = np.concatenate([maybe.take(hit), maybe.take(ones)])
+    f_ac, n_ac = _planes_between(np.minimum(np.minimum(u0, u1), u2),
+                                 np.maximum(np.maximum(u0, u1), u2), samples)
+    hit = np.flatnonzero(n_ac)
+    rows = maybe.take(hit)
     if not len(rows):
         return W[:N], T.copy(), fractions[:N]
-    f_ac, n_ac = f_ac.compress(n_ac > 0), n_ac.compress(n_ac > 0)
     a, b, c, odd = _sorted_corners(Tm.take(hit, axis=0), u0.take(hit), u1.take(hit),
                                    u2.take(hit))
     ua, ub, uc = u.take(a), u.take(b), u.take(c)
+    f_ac, n_ac = f_ac.take(hit), n_ac.take(hit)
     f_ab, n_ab = _planes_between(ua, ub, samples)
     f_bc, n_bc = _planes_between(ub, uc, samples)
 
     # one new vertex per (edge, plane) for the edges that cross one, keyed by their sorted
     # vertex indices
-    lo = np.concatenate([a, b, a, L, L])
-    hi = np.concatenate([b, c, c, A, B])
-    counts = np.concatenate([n_ab, n_bc, n_ac, np.ones(2 * len(L), np.int64)])
+    lo = np.concatenate([a, b, a])
+    hi = np.concatenate([b, c, c])
+    counts = np.concatenate([n_ab, n_bc, n_ac])
     crossing = np.flatnonzero(counts)
     lo_x, hi_x = lo.take(crossing), hi.take(crossing)
     keys, inv = _unique_inverse(np.minimum(lo_x, hi_x) * N + np.maximum(lo_x, hi_x), N * N)
     m = len(a)
-    e_of = np.full(len(lo), -1)
+    e_of = np.full(3 * m, -1)
     e_of[crossing] = inv.reshape(-1)
-    e_ab, e_bc, e_ac, e_LA, e_LB = np.split(e_of, np.cumsum([m, m, m, len(L)]))
+    e_ab, e_bc, e_ac = np.split(e_of, 3)
     p, q = keys // N, keys % N                # each edge from its lower level to its higher
     up, uq = u.take(p), u.take(q)
     p, q = np.where(up < uq, p, q), np.where(up < uq, q, p)
@@ -352,7 +335,6 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     short = np.where(jj < ubt, raw(np.maximum(e_ab.take(t), 0), jj),   # (-1: the edge crosses
                      raw(np.maximum(e_bc.take(t), 0), jj))             # none; not chosen)
     seg = np.stack([raw(e_ac.take(t), jj), short], 1).take(np.flatnonzero(jj != ubt), axis=0)
-    seg = np.concatenate([seg, np.stack([raw(e_LA, j_s), raw(e_LB, j_s)], 1)])
     P, label = _merge_segments(P, seg, eps)
     K = len(P)
     if N + K > room:                          # more cut points than room for them
@@ -368,12 +350,9 @@ def slab_cut(V, T, o, n, gap, samples, eps):
     # directly (_one_plane); the others' by zipping their two chains (_zipped)
     one = n_ac == 1
     t1, tz = np.flatnonzero(one), np.flatnonzero(~one)
-    count = np.concatenate([np.where(one, 3, n_ab + n_bc + n_ac + 3),
-                            np.full(len(L), 3, np.int64)])
+    count = np.where(one, 3, n_ab + n_bc + n_ac + 3)
     offset = np.cumsum(count) - count
     new = np.empty((int(count.sum()), 3), np.int64)
-    new[offset[m] if len(L) else len(new):] = _simple_pieces(
-        W, L, A, B, point(e_LA, j_s), point(e_LB, j_s))
     j = f_ac.take(t1)
     lower = n_bc.take(t1) == 1                # b below the plane: its short point on b -> c
     q = b.take(t1)                            # else on a -> b, or b itself when on the plane
@@ -389,56 +368,17 @@ def slab_cut(V, T, o, n, gap, samples, eps):
         new[offset.take(tz).take(owner) + i] = _zipped(
             W, point, *(x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc,
                                               f_ac, n_ac, e_ab, e_bc, e_ac)))
+    new = without_flat(new)
     # the per-vertex arrays freed before the result is allocated: a lower peak (whether a
     # repeated call then takes fresh pages depends on the allocator's state either way)
     del s, u, cell
-    return W, _placed(T, rows, new, offset), fractions
-
-
-def _placed(T, rows, new, offset):
-    """The result's triangles: T's, each cut one (`rows`) replaced by its first piece that
-    is not flat (its pieces start at `offset` in `new`), the other pieces appended (a copy
-    of T and a few scatters: 2x faster than gathering the uncut rows). A cut triangle
-    whose pieces are all flat (a degenerate input triangle) is dropped, the rows after it
-    moved up."""
-    flat = (new[:, 0] == new[:, 1]) | (new[:, 1] == new[:, 2]) | (new[:, 2] == new[:, 0])
-    owner = np.zeros(len(new), np.int64)
-    owner[offset[1:]] = 1
-    np.cumsum(owner, out=owner)
-    solid = np.flatnonzero(~flat)
-    first = np.ones(len(solid), bool)
-    np.not_equal(owner.take(solid[1:]), owner.take(solid[:-1]), out=first[1:])
-    heads = solid.compress(first)
-    rest = solid.compress(~first)
-    M = len(T)
-    end = M + len(rest)
-    out = np.empty((end, 3), np.int64)
-    out[:M] = T
-    at = rows.take(owner.take(heads))
-    out.reshape(-1)[(3 * at[:, None] + np.arange(3)).reshape(-1)] = new.take(
-        heads, axis=0).reshape(-1)                # flat: 1-D scatters are faster
-    out[M:end] = new.take(rest, axis=0)
-    if len(heads) < len(rows):                # some cut triangle left nothing
-        keep = np.ones(end, bool)
-        keep[rows] = False
-        keep[at] = True
-        return out.compress(keep, axis=0)
-    return out
-
-
-def _simple_pieces(W, L, A, B, pA, pB):
-    """The pieces (3k, 3) of k triangles (L, A, B) crossing one plane with L alone on its
-    side, pA and pB the cut points on L-A and L-B: (L, pA, pB) and the quadrilateral
-    (pA, A, B, pB) split along its shorter diagonal (pA-B unless A-pB is shorter), in the
-    triangle's orientation."""
-    along = _length(W, A, pB) < _length(W, pA, B)          # split along A-pB
-    out = np.empty((len(L), 9), np.int64)
-    out[:, 0], out[:, 1], out[:, 2] = L, pA, pB
-    out[:, 3], out[:, 4] = pA, A
-    out[:, 5] = np.where(along, pB, B)
-    out[:, 6] = np.where(along, A, pA)
-    out[:, 7], out[:, 8] = B, pB
-    return out.reshape(-1, 3)
+    kept = len(T) - len(rows)                 # the triangles crossing no plane, then the new
+    out = np.empty((kept + len(new), 3), np.int64)
+    keep = np.ones(len(T), bool)
+    keep[rows] = False
+    compress_rows(keep, T, out)
+    out[kept:] = new
+    return W, out, fractions
 
 
 def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab, e_bc,
@@ -729,4 +669,3 @@ def bend_motion(axis_point, axis_direction, angle, origin, normal, gap):
             -(f * gap)[..., None] * n)
 
     return _vectorized(motion_of_s, point, axis_direction, angle, gap * n)
-
