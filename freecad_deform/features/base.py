@@ -59,20 +59,29 @@ def check_links(obj):
                           f"does not use {obj.Label}.", "Base")
 
 
-def _finite(value):
-    """False if a number in `value` (float, Quantity, Vector, Placement, list) is NaN or
-    infinite."""
+def _numbers(value, turns=True):
+    """The numbers in `value` (float, Quantity, Vector, Placement, list): a Placement's
+    position, and its rotation's quaternion when `turns`."""
     if isinstance(value, (list, tuple)):
-        return all(_finite(v) for v in value)
-    if hasattr(value, "Value") and not isinstance(value, str):  # Quantity
-        value = value.Value
+        for v in value:
+            yield from _numbers(v, turns)
+    elif hasattr(value, "Value") and not isinstance(value, str):  # Quantity
+        yield value.Value
     elif hasattr(value, "Rotation"):  # Placement
-        return _finite(tuple(value.Base)) and _finite(tuple(value.Rotation.Q))
+        yield from _numbers(value.Base)
+        if turns:
+            yield from value.Rotation.Q
     elif hasattr(value, "x") and hasattr(value, "z"):  # Vector
-        return _finite((value.x, value.y, value.z))
+        yield from (value.x, value.y, value.z)
+    else:
+        yield value
+
+
+def _finite(value):
+    """False if a number in `value` (see _numbers) is NaN or infinite."""
     # a length property clamps infinity to the largest float: that is infinity too
-    return not isinstance(value, float) or (math.isfinite(value)
-                                            and abs(value) < sys.float_info.max)
+    return all(not isinstance(x, float) or (math.isfinite(x) and abs(x) < sys.float_info.max)
+               for x in _numbers(value))
 
 
 LARGEST = 1e9  # mm: beyond it doubles lie farther apart than OCCT's 1e-7 mm Confusion
@@ -83,13 +92,7 @@ LENGTHS = ("App::PropertyLength", "App::PropertyDistance", "App::PropertyVectorD
 def _largest(value):
     """The largest coordinate or length (mm) in `value`: a length Quantity, a Vector, a
     Placement's position, or a list of them."""
-    if isinstance(value, (list, tuple)):
-        return max((_largest(v) for v in value), default=0.0)
-    if hasattr(value, "Rotation"):  # Placement
-        value = value.Base
-    if hasattr(value, "x") and hasattr(value, "z"):  # Vector
-        return max(abs(value.x), abs(value.y), abs(value.z))
-    return abs(getattr(value, "Value", value))
+    return max((abs(x) for x in _numbers(value, turns=False)), default=0.0)
 
 
 def check_magnitudes(obj, properties):

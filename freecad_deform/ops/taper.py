@@ -31,10 +31,10 @@ def solid(shape, origin, normal, gap, scale, rows, point=None, profile="Linear",
     try:
         result, deviation = mapped.map_shape(shape, smap, tolerance)
     except mapped.FoldsPastPlanes as fold:
-        side = "before Plane" if fold.past < 0 else "beyond Plane2"
         scales = np.atleast_1d(np.asarray(scale, float))
         raise DeformError(f"Scale {scales[np.argmax(np.abs(scales - 1.0))]:g} takes the "
-                          f"taper's factor down to zero about {abs(fold.past):.3g} mm {side}, "
+                          f"taper's factor down to zero about {abs(fold.past):.3g} mm "
+                          f"{fold.side}, "
                           f"inside the parameter range of a face the region cuts, whose "
                           f"refitted surface then folds (self-intersecting); bring Scale "
                           f"nearer 1 or move Plane2 farther from Plane.", "Scale") from None

@@ -567,14 +567,14 @@ class FoldsPastPlanes(DeformError):
     the check passes, but there the fold comes within a few hundredths of the rectangle of
     the face, and the fit took 230 x 230 poles and 130 s without reaching its tolerance
     (7.6e-5 mm): so the result is refused. `past`: how far (mm along the normal) before
-    Plane (negative) or beyond Plane2 (positive) the fold was met."""
+    Plane (negative) or beyond Plane2 (positive) the fold was met, `side` that in words."""
 
     def __init__(self, past):
-        side = "before Plane" if past < 0 else "beyond Plane2"
-        super().__init__(f"A face's parameter range reaches {abs(past):.3g} mm {side}, where "
-                         f"the deformation continued past the planes folds, and its refitted "
-                         f"surface would fold too; move Plane2 farther from Plane.", "Plane2")
-        self.past = past
+        self.past, self.side = past, "before Plane" if past < 0 else "beyond Plane2"
+        super().__init__(f"A face's parameter range reaches {abs(past):.3g} mm {self.side}, "
+                         f"where the deformation continued past the planes folds, and its "
+                         f"refitted surface would fold too; move Plane2 farther from Plane.",
+                         "Plane2")
 
 
 FOLD_SHARE = 0.01  # the map counts as folding where its Jacobian determinant falls
