@@ -2,7 +2,7 @@
 and the plane `gap` beyond it is scaled across an axis by scale(s), 1 at Plane to `scale`
 at the far plane (a pair: along the axis frame's X and Y); the part beyond is scaled by
 `scale`. Solids go through the space map face by face (shapes.mapped), meshes and point
-clouds vertex by vertex, exactly.
+clouds vertex by vertex (a mesh cut into slabs first).
 
 The axis frame `rows` is a 3x3 array whose rows are its X, Y and Z (Z along the normal);
 `point` is a point on the axis, or None for the centroid of the section at Plane.
@@ -11,9 +11,10 @@ solid(shape, ...), mesh(mesh, ...) and points(cloud, ...) give (result, outputs)
 import numpy as np
 
 from ..geometry.errors import DeformError
+from ..geometry.mesh import sweep as mesh_sweep
 from ..geometry.sweep import space_map
 from ..shapes import brep, mapped
-from ..shapes.convert import mesh_arrays, points_from_array
+from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
 from . import planes as pp
 
 
@@ -74,13 +75,20 @@ def _check_scale(shape, scale, point, axis, tolerance, gap):
                           f"{gap * steep / STEEPEST:.3g} mm) or bring Scale nearer 1.", "Plane2")
 
 
+MESH_SLABS = 16  # the region of a mesh is cut into this many slabs before the map
+
+
 def mesh(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):
-    """(Mesh, {VolumeChange}): every vertex through the taper map."""
+    """(Mesh, {VolumeChange}): the mesh cut at Plane, Plane2 and the planes of MESH_SLABS
+    slabs between (a triangle reaching across the region would keep the part before
+    Plane and beyond Plane2 flat with it, and cut corners inside), then every vertex
+    through the taper map."""
     v, t = mesh_arrays(base)
     if point is None:
         point = pp.section_centroid_mesh(base, origin, normal, (v, t))
     smap = taper_map(origin, normal, gap, scale, rows, point, profile)
-    return pp.mesh_result((v, t), smap(v), t)
+    w, cut, _ = mesh_sweep.slab_cut(v, t, origin, normal, gap, MESH_SLABS, mesh_eps(v))
+    return pp.mesh_result((v, t), smap(w), cut)
 
 
 def points(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):

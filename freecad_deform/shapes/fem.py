@@ -4,6 +4,11 @@ import numpy as np
 from ..geometry.errors import DeformError
 
 
+VOLUME_NAMES = {4: "linear tetrahedra", 5: "pyramids", 6: "pentahedra (wedges)",
+                8: "hexahedra", 10: "quadratic tetrahedra", 13: "quadratic pyramids",
+                15: "quadratic pentahedra", 20: "quadratic hexahedra"}
+
+
 def is_fem_mesh(obj):
     """True when `obj` is a FEM mesh object (Fem::FemMeshObject or derived)."""
     return obj is not None and obj.isDerivedFrom("Fem::FemMeshObject")
@@ -24,8 +29,9 @@ def fem_arrays(femmesh):
     connectivity = [femmesh.getElementNodes(v) for v in volumes.tolist()]
     sizes = {len(c) for c in connectivity}
     if not (sizes <= {4} or sizes <= {10}):
-        raise DeformError("Base mixes element types (only linear or only quadratic "
-                          "tetrahedra are supported); link a tetrahedral FEM mesh.", "Base")
+        found = ", ".join(VOLUME_NAMES.get(k, f"{k}-node elements") for k in sorted(sizes))
+        raise DeformError(f"Base holds {found}, but only linear or only quadratic tetrahedra "
+                          f"are supported; link a tetrahedral FEM mesh.", "Base")
     elements = np.searchsorted(ids, np.array(connectivity, np.int64))
     return ids, nodes, volumes, elements
 

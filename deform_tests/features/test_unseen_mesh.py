@@ -1,0 +1,125 @@
+"""Failures found by running the mesh, cloud and FEM features on public models the project
+had not seen (trimesh, common-3d-test-models, PCL, sfepy), rebuilt here on generated
+bases.
+
+Oracles written here: a closed box's cross-sections (shoelace area of the section
+segments, deform_tests/oracles/mesh.mesh_section), the volume of the exactly tapered box
+(the integral of A k(s)^2, which a mesh of frustum slabs meets exactly), the closed
+2-manifold check, and the vertices before Plane kept bit for bit.
+"""
+import unittest
+
+from . import fc
+
+import FreeCAD as App  # noqa: E402
+import Fem  # noqa: E402
+import Mesh  # noqa: E402
+import numpy as np  # noqa: E402
+
+import freecad_deform as fd  # noqa: E402
+from freecad_deform.geometry.errors import DeformError  # noqa: E402
+
+from ..oracles.mesh import assert_closed_manifold, mesh_section, volume  # noqa: E402
+
+V = App.Vector
+
+
+def arrays(mesh):
+    points, facets = mesh.Topology
+    return (np.array([tuple(p) for p in points], float).reshape(-1, 3),
+            np.array(facets, np.int64).reshape(-1, 3))
+
+
+def box_mesh(lx, ly, lz):
+    """A closed box [0, lx] x [-ly/2, ly/2] x [-lz/2, lz/2] of 12 triangles: each face two
+    triangles reaching from end to end (as CAD exporters write planar faces)."""
+    corners = np.array([(x, y, z) for x in (0, lx) for y in (-ly / 2, ly / 2)
+                        for z in (-lz / 2, lz / 2)], float)
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    tris = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
+    return Mesh.Mesh([[V(*corners[i]) for i in t] for t in tris])
+
+
+class TaperOfLongTriangles(unittest.TestCase):
+    """trimesh's ADIS16480.STL, plate_holes.STL and 1002_tray_bottom.STL: a mesh Taper moved
+    only the vertices, so a triangle reaching across the region stayed flat from end to
+    end: the part before Plane changed its section (and thin walls crossed each other)."""
+
+    def setUp(self):
+        self.doc = fc.new_document("UnseenTaper")
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def test_box_of_long_triangles(self):
+        base = self.doc.addObject("Mesh::Feature", "Box")
+        base.Mesh = box_mesh(100.0, 20.0, 20.0)
+        axis = (V(0, 0, 0), V(1, 0, 0))
+        obj = fd.make_taper(base, (V(40, 0, 0), V(1, 0, 0)), (V(60, 0, 0), V(1, 0, 0)), 0.5,
+                            axis)
+        self.assertNotIn("Invalid", obj.State)
+        V0, T0 = arrays(base.Mesh)
+        V1, T1 = arrays(obj.Mesh)
+        assert_closed_manifold(V1, T1)
+        n = np.array([1.0, 0, 0])
+        # the scale is 1 before Plane, 1 - 0.5 t across the region, 0.5 beyond: the
+        # section's area 400 k^2 (at x = 50 a slab plane, where the mesh is exact)
+        for x, k in ((10, 1.0), (30, 1.0), (39, 1.0), (50, 0.75), (61, 0.5), (90, 0.5)):
+            area = mesh_section(V1, T1, np.array([x, 0, 0.0]), n)[0]
+            self.assertAlmostEqual(area, 400.0 * k * k, delta=1e-9 * 400, msg=f"x = {x}")
+        # each slab a frustum of square sections: the integral of 400 k(s)^2 exactly
+        expected = 400 * 40 + 400 * 20 * (1 - 0.5 + 0.25 / 3) + 100 * 40
+        self.assertAlmostEqual(volume(V1, T1), expected, delta=1e-9 * expected)
+        self.assertAlmostEqual(obj.VolumeChange, expected - volume(V0, T0),
+                               delta=1e-9 * expected)
+        # the vertices before Plane are the Base's, bit for bit
+        before = V0[V0[:, 0] < 40]
+        kept = {tuple(p) for p in V1.tolist()}
+        self.assertTrue(all(tuple(p) in kept for p in before.tolist()))
+
+    def test_smooth_profile(self):
+        base = self.doc.addObject("Mesh::Feature", "Box")
+        base.Mesh = box_mesh(100.0, 20.0, 20.0)
+        obj = fd.make_taper(base, (V(40, 0, 0), V(1, 0, 0)), (V(60, 0, 0), V(1, 0, 0)), 0.5,
+                            (V(0, 0, 0), V(1, 0, 0)))
+        obj.Profile = "Smooth"
+        self.doc.recompute()
+        self.assertNotIn("Invalid", obj.State)
+        V1, T1 = arrays(obj.Mesh)
+        assert_closed_manifold(V1, T1)
+        n = np.array([1.0, 0, 0])
+        for x, k in ((30, 1.0), (50, 0.75), (70, 0.5)):   # smooth(1/2) = 1/2
+            area = mesh_section(V1, T1, np.array([x, 0, 0.0]), n)[0]
+            self.assertAlmostEqual(area, 400.0 * k * k, delta=1e-9 * 400, msg=f"x = {x}")
+
+
+class FemElementKinds(unittest.TestCase):
+    """sfepy's hsphere8.vtk and bridge3d.vtk (hexahedra only): the refusal said the Base
+    'mixes element types'; it names what the Base holds."""
+
+    def test_hexahedra_named(self):
+        doc = fc.new_document("UnseenFem")
+        try:
+            m = Fem.FemMesh()
+            for i, (x, y, z) in enumerate([(x, y, z) for z in (0, 1) for y in (0, 1)
+                                           for x in (0, 1)], 1):
+                m.addNode(float(x), float(y), float(z), i)
+            m.addVolume([1, 2, 4, 3, 5, 6, 8, 7])
+            base = doc.addObject("Fem::FemMeshObject", "Hex")
+            base.FemMesh = m
+            doc.recompute()
+            with fc.recorded_errors() as raised:
+                obj = fd.make_dimension_drive(base, "Distance", [V(0.5, 0.5, 1), V(0.5, 0.5, 0)],
+                                              2.0)
+            self.assertIn("Invalid", obj.State)
+            exc = raised.get(obj.Name)
+            self.assertIsInstance(exc, DeformError)
+            self.assertEqual(exc.prop, "Base")
+            self.assertIn("hexahedra", str(exc))
+            self.assertNotIn("mixes", str(exc))
+        finally:
+            App.closeDocument(doc.Name)
+
+
+if __name__ == "__main__":
+    unittest.main()
