@@ -93,6 +93,67 @@ class TaperOfLongTriangles(unittest.TestCase):
             self.assertAlmostEqual(area, 400.0 * k * k, delta=1e-9 * 400, msg=f"x = {x}")
 
 
+class FarFromTheOrigin(unittest.TestCase):
+    """PCL-style georeferenced clouds (trimesh points_agisoft.xyz: UTM metres, 5.6e6) and
+    a Base with a Placement far away: the result was stored in global float32, whose step
+    there is 0.5, so a 30 mm box came back 0.12 mm off and a cloud 0.25 off. Oracle: every
+    Base point moved by the stretch written here (kept before the plane, moved by the
+    distance beyond) has a result point within 1e-6 of the part's size."""
+
+    OFFSET = V(665000.123, 5648000.377, 300.31)
+
+    def setUp(self):
+        self.doc = fc.new_document("UnseenFar")
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def check(self, before, after, origin, distance, size, axis=2):
+        from scipy.spatial import cKDTree
+        beyond = (before[:, axis] > origin[axis])[:, None]
+        want = np.where(beyond, before + distance * np.eye(3)[axis], before)
+        self.assertLess(cKDTree(after).query(want)[0].max(), 1e-6 * size)
+
+    def test_placed_mesh_and_cloud(self):
+        import MeshPart
+        import Part
+        import Points
+        box = Part.makeBox(10.3, 20.7, 30.1, V(-5.1, -10.2, -15.3))
+        mesh = MeshPart.meshFromShape(Shape=box, LinearDeflection=0.5)
+        mesh.Placement = App.Placement(self.OFFSET, App.Rotation())
+        base = self.doc.addObject("Mesh::Feature", "Placed")
+        base.Mesh = mesh
+        cloud = Points.Points([V(*p) for p in
+                               np.random.default_rng(1).uniform(-5, 5, (500, 3)).tolist()])
+        cloud.Placement = App.Placement(self.OFFSET, App.Rotation())
+        pbase = self.doc.addObject("Points::Feature", "PlacedCloud")
+        pbase.Points = cloud
+        self.doc.recompute()
+        origin = np.array(tuple(self.OFFSET)) + [0, 0, 0.37]
+        plane = (V(*origin), V(0, 0, 1))
+        for b, read in ((base, lambda o: o.Mesh.Topology[0]), (pbase, lambda o: o.Points.Points)):
+            obj = fd.make_stretch(b, plane, 5.3)
+            self.assertNotIn("Invalid", obj.State)
+            before = np.array([tuple(p) for p in read(b)])
+            after = np.array([tuple(p) for p in read(obj)])
+            self.check(before, after, origin, 5.3, 40.0)
+        V1, T1 = arrays(self.doc.getObject("Stretch").Mesh)
+        assert_closed_manifold(V1, T1, min_area=0.0)
+
+    def test_georeferenced_cloud(self):
+        import Points
+        pts = np.random.default_rng(2).uniform(-20, 20, (2000, 3)) + [665187.5, 5648349.9, 241.8]
+        base = self.doc.addObject("Points::Feature", "Utm")
+        base.Points = Points.Points([V(*p) for p in pts.tolist()])   # stored float32 as read
+        self.doc.recompute()
+        before = np.array([tuple(p) for p in base.Points.Points])
+        origin = before.mean(axis=0)
+        obj = fd.make_stretch(base, (V(*origin), V(0, 1, 0)), 5.3)    # along the northing
+        self.assertNotIn("Invalid", obj.State)
+        after = np.array([tuple(p) for p in obj.Points.Points])
+        self.check(before, after, origin, 5.3, 70.0, axis=1)
+
+
 class FemElementKinds(unittest.TestCase):
     """sfepy's hsphere8.vtk and bridge3d.vtk (hexahedra only): the refusal said the Base
     'mixes element types'; it names what the Base holds."""
