@@ -254,14 +254,16 @@ def split_by(solid, tools, offset, offsets):
     zones = [[] for _ in range(len(offsets) + 1)]
     for piece in pieces.Solids:
         s = offset(np.array([tuple(v.Point) for v in piece.Vertexes]).reshape(-1, 3))
-        off = np.min(np.abs(s[:, None] - np.asarray(offsets)[None, :]), axis=1) > TOL
-        if not off.any():  # the edge midpoints only where no vertex is off the tools
+        away = np.min(np.abs(s[:, None] - np.asarray(offsets)[None, :]), axis=1)
+        if not (away > TOL).any():  # the edge midpoints only where no vertex is off the tools
             s = np.r_[s, offset(np.array(
                 [tuple(e.valueAt(0.5 * (e.FirstParameter + e.LastParameter)))
                  for e in piece.Edges]).reshape(-1, 3))]
-            off = np.min(np.abs(s[:, None] - np.asarray(offsets)[None, :]), axis=1) > TOL
-        if off.any():
-            probe = s[off][0]
+            away = np.min(np.abs(s[:, None] - np.asarray(offsets)[None, :]), axis=1)
+        if (away > TOL).any():
+            # the point farthest from the tools: a vertex a few TOL from a plane may lie
+            # on its other side (a sliver face ending at the plane, split 1.4e-7 off it)
+            probe = s[np.argmax(away)]
         elif np.ptp(s) > TOL:  # a slab with every vertex and edge on two planes: between them
             probe = 0.5 * (s.min() + s.max())
         else:  # OCCT's centre of mass strays on thin pieces with curved faces
@@ -295,7 +297,10 @@ def faces_on_plane(solids, origin, normal):
                 continue
             if np.linalg.norm(np.cross(np.array(tuple(surf.Axis)), normal)) > TOL:
                 continue
-            if all(abs(np.dot(np.array(tuple(v.Point)) - origin, normal)) < TOL for v in face.Vertexes):
+            # within a vertex's own tolerance: OCCT's split snaps a plane that close to a
+            # face of the part onto it
+            if all(abs(np.dot(np.array(tuple(v.Point)) - origin, normal)) < max(TOL, v.Tolerance)
+                   for v in face.Vertexes):
                 found.append(face)
     return found
 
