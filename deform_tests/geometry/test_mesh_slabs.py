@@ -178,9 +178,43 @@ def test_triangles_crossing_none_one_or_several_planes(flipped):
                      and np.sort(x)[0] < np.sort(x)[1] < np.sort(x)[2] for x in V0[T0, 0]])
     pieces = np.bincount(parent, minlength=len(T0))
     np.testing.assert_array_equal(pieces, np.where(crossed == 0, 1, 2 * crossed + 1 - b_on))
-    # turned: every vertex back by its own angle lands on its parent triangle
+    # turned: every vertex back by its own angle lands where the untwisted cut put it, and
+    # the pieces (their quadrilaterals split along the diagonal shorter after the turn) in
+    # their parents' planes, as many, each parent's area again
     angle = 1.3
     Vt, Tt = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, angle), samples)
-    np.testing.assert_array_equal(Tt, T)
     back = Rotation.from_rotvec(-angle * np.clip(Vt[:, 0] / gap, 0, 1)[:, None] * n).apply(Vt)
     np.testing.assert_allclose(back, V, atol=1e-12)
+    off = np.abs(np.einsum("pk,tk->pt", V[Tt].mean(axis=1), unit_normals)
+                 - np.einsum("tk,tk->t", V0[T0[:, 0]], unit_normals))
+    parent_t = off.argmin(axis=1)
+    assert off.min(axis=1).max() < 1e-12
+    np.testing.assert_array_equal(np.bincount(parent_t, minlength=len(T0)), pieces)
+    np.testing.assert_allclose(np.bincount(parent_t, np.linalg.norm(triangle_normals(V, Tt),
+                                                                    axis=1) / 2, len(T0)),
+                               np.linalg.norm(normals, axis=1) / 2, rtol=1e-12)
+
+
+def test_a_mesh_of_many_blocks_is_cut_on_every_core_as_on_one(monkeypatch):
+    """slab_cut's vertex pass and triangle scan split a large mesh (over 8 blocks of
+    vertices) between two threads: the same vertices and triangles as one thread gives, a
+    closed 2-manifold with the oracle's piece count and the input's volume to the
+    flat-facet bound of the test above."""
+    from freecad_deform.geometry import blocks
+    V0, T0 = blob(140000, seed=3)
+    assert len(V0) > 8 * blocks.BLOCK
+    n = np.array([0.2, -0.3, 1.0])
+    n /= np.linalg.norm(n)
+    origin, gap, angle, samples = -0.5 * n, 1.2, 2.0, 16
+    monkeypatch.setattr(blocks, "_workers", lambda: 2)     # (split on any machine)
+    V, T = twisted(V0, T0, origin, n, gap, angle, samples)
+    monkeypatch.setattr(blocks, "_workers", lambda: 1)
+    V1, T1 = twisted(V0, T0, origin, n, gap, angle, samples)
+    np.testing.assert_array_equal(V, V1)
+    np.testing.assert_array_equal(T, T1)
+    assert_closed_manifold(V, T, min_area=0.0)
+    assert len(T) == expected_count(V0, T0, origin, n, gap, samples, 1e-9)
+    delta = angle / samples
+    w = np.linalg.norm(V0[T0] - V0[np.roll(T0, 1, axis=1)], axis=2).max()
+    assert abs(volume(V, T) - volume(V0, T0)) <= 2 * np.pi * gap * (delta ** 2 / 8
+                                                                     + w * delta / 12)

@@ -10,7 +10,7 @@ the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float 
 import numpy as np
 
 from ..errors import DeformError
-from ..blocks import BLOCK, compress_rows, tiled
+from ..blocks import BLOCK, compress_rows, in_parallel
 from .cut import arrays, placed, seam, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
 from ..sweep.planes import check_crossing, signed_distance, unit_as_given, unit_normal
@@ -155,8 +155,7 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     if gap / samples <= 2 * eps:
         raise DeformError(f"{samples} Samples put the cutting planes closer than the tolerance "
                           f"in a gap of {gap:g}; lower Samples.", "Samples")
-    W, T, f = slab_cut(V, T, o, n, gap, samples, eps)
-    return move_by_fraction(W, f, motion_of_s, in_place=True), T
+    return slab_cut(V, T, o, n, gap, samples, eps, motion_of_s)
 
 
 def move_by_fraction(points, f, motion_of_s, in_place=False):
@@ -196,133 +195,185 @@ def move_by_fraction(points, f, motion_of_s, in_place=False):
     return out
 
 
-def slab_cut(V, T, o, n, gap, samples, eps):
-    """The mesh cut at the planes s = gap * j / samples, j = 0..samples, all at once.
+def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
+    """The mesh cut at the planes s = gap * j / samples, j = 0..samples, all at once, and
+    each vertex moved by motion_of_s (None: not moved) at its fraction of the gap (see
+    move_by_fraction): s / gap clipped to [0, 1], exactly j / samples on plane j. Returns
+    (vertices, triangles).
 
-    Returns (vertices, triangles, fractions): fractions[v] is s / gap of vertex v clipped
-    to [0, 1], exactly j / samples for the vertices on plane j. A vertex that is not
-    finite is refused naming Base, planes that miss the part naming Plane or Plane2.
-    Vertices within eps of a plane are snapped onto it; every edge gets one new vertex per
-    plane it crosses (shared by its two triangles, so closed stays closed), and the cut
-    points joined by a section segment shorter than eps are merged. A triangle crossing k
-    planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane): sorted by
-    level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c on the
-    other are zipped from a to c, each quadrilateral between two planes split along its
-    shorter diagonal (a triangle crossing one plane, most of them, gets its pieces written
-    directly, the same ones). The cost is linear in the output (no triangle is cut
-    twice). Original vertices keep their indices, new ones are appended; orientation is
-    kept; the triangles crossing no plane are kept as they are, in their order, then the
-    new ones.
+    A vertex that is not finite is refused naming Base, planes that miss the part naming
+    Plane or Plane2. Vertices within eps of a plane are snapped onto it; every edge gets one
+    new vertex per plane it crosses (shared by its two triangles, so closed stays closed),
+    and the cut points joined by a section segment shorter than eps are merged. A triangle
+    crossing k planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane):
+    sorted by level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c
+    on the other are zipped from a to c, each quadrilateral between two planes split along
+    its shorter diagonal in the moved mesh (a triangle crossing one plane, most of them,
+    gets its pieces written directly, the same ones). The cost is linear in the output (no
+    triangle is cut twice). Original vertices keep their indices, new ones are appended;
+    orientation is kept; a triangle crossing no plane keeps its row, a cut one's row holds
+    one of its pieces and the others follow the input's rows.
+    Each block of vertices is moved while it is in the cache, right after it is classified:
+    the cut points are made from the input's vertices (snapped), then moved.
     Large rows are gathered with take: fancy or boolean indexing of rows is 3 to 10x slower.
     """
     N = len(V)
-    h = gap / samples
-    # per vertex, BLOCK at a time (in the cache), in one pass: the check that it is finite,
-    # its signed distance s (as planes.signed_distance computes it), the nearest plane j,
-    # the vertices within eps of it (snapped), the level u in plane units (exact on the
-    # planes; clipped so that floor/ceil stay integers), its cell between planes, its
-    # place and its fraction; W and fractions get room for the cut points too (grown
-    # below when a cut makes more)
-    room = N + N // 4 + 1024
-    W, fractions = np.empty((room, 3)), np.empty(room)
-    s, u = np.empty(N), np.empty(N)
-    ns = unit_as_given(n)
-    minus_o = tiled(-o, N)
-    rows = np.empty(min(BLOCK, N) * 3)
-    small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
-    cell = np.empty(N, small)
-    lo, hi = np.inf, -np.inf
-    for i in range(0, N, BLOCK):
-        v = V[i:i + BLOCK]
-        if not np.isfinite(v).all():
-            raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
-                              "infinity); repair or replace the Base mesh.", "Base")
-        end = i + len(v)
-        s_i, u_i, w, f_i = s[i:end], u[i:end], W[i:end], fractions[i:end]
-        r = rows[:v.size]
-        np.add(v.reshape(-1), minus_o[:v.size], out=r)
-        np.matmul(r.reshape(-1, 3), ns, out=s_i)
-        lo, hi = np.minimum(lo, s_i.min()), np.maximum(hi, s_i.max())  # NaN stays
-        j = np.rint(s_i / h)
-        np.clip(j, 0, samples, out=j)
-        d = s_i - gap * j / samples
-        near = np.abs(d) <= eps
-        on = np.flatnonzero(near) if near.any() else None
-        if on is not None:
-            d_on, j_on = d.take(on), j.take(on)
-            s_i[on] -= d_on
-        np.divide(s_i, h, out=u_i)
-        if on is not None:
-            u_i[on] = j_on
-        np.clip(u_i, -1.0, samples + 1.0, out=u_i)
-        np.floor(u_i, out=cell[i:i + BLOCK], casting="unsafe")
-        w[...] = v
-        np.divide(s_i, gap, out=f_i)
-        np.clip(f_i, 0.0, 1.0, out=f_i)
-        if on is not None:
-            w[on] -= d_on[:, None] * n
-            f_i[on] = j_on / samples
-    ends = np.array([lo, hi])
     if not N:
         raise DeformError("The Base mesh has no vertices; give Base a mesh with triangles.",
                           "Base")
-    if not np.isfinite(ends).all():  # finite vertices: Plane's numbers are not
+    ns = unit_as_given(n)
+    if not (np.isfinite(o).all() and np.isfinite(ns).all()):
         raise DeformError("Plane's position or normal is not a finite number (NaN or "
                           "infinity); set Plane to finite numbers.", "Plane")
+    levels = _Levels(o, ns, gap, samples, eps)
+    # per vertex, BLOCK at a time (in the cache), in one pass: its level u and cell between
+    # planes (snapped within eps of a plane), its fraction and its moved place; W gets room
+    # for the cut points too (grown below when a cut makes more). A vertex that is not
+    # finite makes a level that is not (checked once, after the pass), unless it is in a
+    # coordinate the normal does not see (`blind`: checked then)
+    room = N + N // 8 + 1024
+    W = np.empty((room, 3))
+    u = np.empty(N)
+    small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
+    cell = np.empty(N, small)
+
+    def vertex_pass(start, stop):             # -> (lowest, highest s) of its vertices
+        lo, hi = np.inf, -np.inf
+        fraction = np.empty(min(BLOCK, stop - start))
+        with np.errstate(invalid="ignore"):   # (NaN cast to a cell: refused below)
+            for i in range(start, stop, BLOCK):
+                v = V[i:min(i + BLOCK, stop)]
+                end = i + len(v)
+                s, on, d = levels(v, u[i:end])
+                lo, hi = np.minimum(lo, s.min()), np.maximum(hi, s.max())  # NaN stays
+                if levels.blind and not np.isfinite(v).all():
+                    lo = np.nan
+                np.floor(u[i:end], out=cell[i:end], casting="unsafe")
+                w = W[i:end]
+                w[...] = v
+                if on is not None:
+                    w[on] -= d[:, None] * ns
+                if motion_of_s is not None:
+                    f = np.divide(s, gap, out=fraction[:len(v)])
+                    _clip(f, levels.unit)
+                    if on is not None:
+                        f[on] = u[i:end].take(on) / samples
+                    move_by_fraction(w, f, motion_of_s, in_place=True)
+        return lo, hi
+
+    lo, hi = np.array(in_parallel(vertex_pass, N)).T
+    lo, hi = lo.min(), hi.max()               # (NaN stays)
+    ends = np.array([lo, hi])
+    if not np.isfinite(ends).all():
+        raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
+                          "infinity) or too large to measure; repair or replace the Base mesh.",
+                          "Base")
     check_crossing(ends, "Plane", eps, touching=True)
     check_crossing(ends - gap, "Plane2", eps, touching=True)
     # which triangles cross a plane: only those whose corners are not all in one cell
     # between planes can, and only those are sorted (most triangles of a fine mesh cross
     # none); then from their lowest and highest level alone
-    maybe = []
-    for i in range(0, len(T), BLOCK):
-        c = cell.take(T[i:i + BLOCK])
-        maybe.append(np.flatnonzero((c[:, 0] != c[:, 1]) | (c[:, 1] != c[:, 2])) + i)
+    M = len(T)
+
+    def scan(start, stop):
+        maybe = []
+        for i in range(start, stop, BLOCK):
+            c = cell.take(T[i:min(i + BLOCK, stop)])
+            maybe.append(np.flatnonzero((c[:, 0] != c[:, 1]) | (c[:, 1] != c[:, 2])) + i)
+        return maybe
+
+    maybe = [m for part in in_parallel(scan, M) for m in part]
+    cell = None                               # (freed)
     maybe = np.concatenate(maybe) if maybe else np.empty(0, np.int64)
+    W, new, rows = _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps,
+                        motion_of_s)
+    u = maybe = None                          # (freed before the result is allocated)
+    if new is None:
+        return W, T.copy()
+    if len(new) < len(rows):                  # (flat input triangles) rows to drop
+        keep = np.ones(M, bool)
+        keep[rows] = False
+        return W, np.concatenate([T[keep], new])
+    out = np.empty((M + len(new) - len(rows), 3), np.int64)
+    out[:M] = T
+    out[rows] = new[:len(rows)]
+    out[M:] = new[len(rows):]
+    return W, out
+
+
+def _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps, motion_of_s):
+    """slab_cut's cut of the triangles `maybe` (those with corners in different cells):
+    the cut points, moved, written to W after its N vertices (W grown when it has no room
+    for them), and the pieces. Returns (W, pieces or None when no triangle crosses a plane,
+    the rows of T that were cut). In steps of their own, so that each step's temporaries
+    are freed when it ends: a lower peak, and the result then finds room in the heap where
+    they were (no fresh pages for the allocator to fault in again at the next call)."""
+    N = len(V)
+    rows, a, b, c, odd, ub, uc, planes = _crossed(T, u, maybe, samples)
+    if not len(rows):
+        return W[:N], None, rows
+    P, point, e = _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps,
+                              motion_of_s)
+    K = len(P)
+    W = np.concatenate([W[:N], P]) if N + K > room else W[:N + K]
+    W[N:] = P
+    del P
+    return W, without_flat(_pieces(W, point, a, b, c, ub, uc, odd, planes, e)), rows
+
+
+def _crossed(T, u, maybe, samples):
+    """The rows of the triangles `maybe` that cross a plane, their corners sorted by level
+    (a, b, c, odd: see _sorted_corners), the levels ub, uc, and the planes (first, count)
+    each edge a -> b, b -> c, a -> c crosses (see _planes_between)."""
     Tm = T.take(maybe, axis=0)
     u0, u1, u2 = u.take(Tm).T
     f_ac, n_ac = _planes_between(np.minimum(np.minimum(u0, u1), u2),
                                  np.maximum(np.maximum(u0, u1), u2), samples)
     hit = np.flatnonzero(n_ac)
-    rows = maybe.take(hit)
-    if not len(rows):
-        return W[:N], T.copy(), fractions[:N]
-    a, b, c, odd = _sorted_corners(Tm.take(hit, axis=0), u0.take(hit), u1.take(hit),
-                                   u2.take(hit))
-    ua, ub, uc = u.take(a), u.take(b), u.take(c)
-    f_ac, n_ac = f_ac.take(hit), n_ac.take(hit)
-    f_ab, n_ab = _planes_between(ua, ub, samples)
-    f_bc, n_bc = _planes_between(ub, uc, samples)
+    a, b, c, odd, ua, ub, uc = _sorted_corners(Tm.take(hit, axis=0), u0.take(hit),
+                                               u1.take(hit), u2.take(hit))
+    planes = (*_planes_between(ua, ub, samples), *_planes_between(ub, uc, samples),
+              f_ac.take(hit), n_ac.take(hit))
+    return maybe.take(hit), a, b, c, odd, ub, uc, planes
 
-    # one new vertex per (edge, plane) for the edges that cross one, keyed by their sorted
-    # vertex indices
+
+def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_of_s):
+    """One new vertex per (edge, plane) for the edges that cross one (keyed by their sorted
+    vertex indices), those joined by a section segment shorter than eps merged, moved by
+    the motion at their plane's fraction. Returns (the points (K, 3), point(e, plane): the
+    vertex of edge e's point on that plane (N + its row), the edge numbers (e_ab, e_bc,
+    e_ac) of the triangles, -1 where an edge crosses none)."""
+    f_ab, n_ab, f_bc, n_bc, f_ac, n_ac = planes
+    N = len(V)
     lo = np.concatenate([a, b, a])
     hi = np.concatenate([b, c, c])
-    counts = np.concatenate([n_ab, n_bc, n_ac])
-    crossing = np.flatnonzero(counts)
-    lo_x, hi_x = lo.take(crossing), hi.take(crossing)
-    keys, inv = _unique_inverse(np.minimum(lo_x, hi_x) * N + np.maximum(lo_x, hi_x), N * N)
-    m = len(a)
-    e_of = np.full(3 * m, -1)
+    crossing = np.flatnonzero(np.concatenate([n_ab, n_bc, n_ac]))
+    lo, hi = lo.take(crossing), hi.take(crossing)
+    keys, inv = _unique_inverse(np.minimum(lo, hi) * N + np.maximum(lo, hi), N * N)
+    del lo, hi
+    e_of = np.full(3 * len(a), -1)
     e_of[crossing] = inv.reshape(-1)
     e_ab, e_bc, e_ac = np.split(e_of, 3)
-    p, q = keys // N, keys % N                # each edge from its lower level to its higher
-    up, uq = u.take(p), u.take(q)
-    p, q = np.where(up < uq, p, q), np.where(up < uq, q, p)
-    e_first, e_count = _planes_between(np.minimum(up, uq), np.maximum(up, uq), samples)
+    # each edge from its lower level to its higher: its ends' levels and (snapped) places
+    (sp, up, Wp), (sq, uq, Wq) = levels.placed(V.take(keys // N, axis=0)), levels.placed(
+        V.take(keys % N, axis=0))
+    swap = np.flatnonzero(uq < up)
+    for x, y in ((sp, sq), (up, uq), (Wp, Wq)):
+        x[swap], y[swap] = y.take(swap, axis=0), x.take(swap, axis=0)
+    e_first, e_count = _planes_between(up, uq, samples)
     e_start = np.cumsum(e_count) - e_count
     edge, k = _ranges(e_count)
     jp = e_first.take(edge) + k
     level = gap * jp / samples
-    pe, qe = p.take(edge), q.take(edge)
-    dp = s.take(pe) - level
-    dq = s.take(qe) - level
-    Wp = W.take(pe, axis=0)
-    P = W.take(qe, axis=0)
+    dp = sp.take(edge) - level
+    dq = sq.take(edge) - level
+    Wp = Wp.take(edge, axis=0)
+    P = Wq.take(edge, axis=0)
     P -= Wp
     P *= (dp / (dp - dq))[:, None]
     P += Wp
     P -= ((P - o) @ n - level)[:, None] * n
+    del Wp, Wq, dp, dq
 
     def raw(e, jj):                       # index in P of edge e's point on plane jj
         return e_start.take(e) + jj - e_first.take(e)
@@ -336,18 +387,23 @@ def slab_cut(V, T, o, n, gap, samples, eps):
                      raw(np.maximum(e_bc.take(t), 0), jj))             # none; not chosen)
     seg = np.stack([raw(e_ac.take(t), jj), short], 1).take(np.flatnonzero(jj != ubt), axis=0)
     P, label = _merge_segments(P, seg, eps)
-    K = len(P)
-    if N + K > room:                          # more cut points than room for them
-        W, fractions = np.concatenate([W[:N], P]), np.concatenate([fractions[:N], np.empty(K)])
-    W, fractions = W[:N + K], fractions[:N + K]
-    W[N:] = P
-    fractions[N + label] = jp / samples
+    if motion_of_s is not None:
+        f = np.empty(len(P))
+        f[label] = jp / samples
+        move_by_fraction(P, f, motion_of_s, in_place=True)
 
     def point(e, jj):
         return N + label.take(raw(e, jj))
 
-    # the pieces, each triangle's in turn: most cross one plane, and theirs are written
-    # directly (_one_plane); the others' by zipping their two chains (_zipped)
+    return P, point, (e_ab, e_bc, e_ac)
+
+
+def _pieces(W, point, a, b, c, ub, uc, odd, planes, e):
+    """The pieces of the cut triangles, each triangle's in turn: most cross one plane, and
+    theirs are written directly (_one_plane); the others' by zipping their two chains
+    (_zipped)."""
+    f_ab, n_ab, f_bc, n_bc, f_ac, n_ac = planes
+    e_ab, e_bc, e_ac = e
     one = n_ac == 1
     t1, tz = np.flatnonzero(one), np.flatnonzero(~one)
     count = np.where(one, 3, n_ab + n_bc + n_ac + 3)
@@ -368,17 +424,71 @@ def slab_cut(V, T, o, n, gap, samples, eps):
         new[offset.take(tz).take(owner) + i] = _zipped(
             W, point, *(x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc,
                                               f_ac, n_ac, e_ab, e_bc, e_ac)))
-    new = without_flat(new)
-    # the per-vertex arrays freed before the result is allocated: a lower peak (whether a
-    # repeated call then takes fresh pages depends on the allocator's state either way)
-    del s, u, cell
-    kept = len(T) - len(rows)                 # the triangles crossing no plane, then the new
-    out = np.empty((kept + len(new), 3), np.int64)
-    keep = np.ones(len(T), bool)
-    keep[rows] = False
-    compress_rows(keep, T, out)
-    out[kept:] = new
-    return W, out, fractions
+    return new
+
+
+class _Levels:
+    """The signed distance s of points to Plane and their level u = s / h in plane units
+    (h = gap / samples), those within eps of a plane j snapped onto it (u exactly j), u
+    clipped to [-1, samples + 1] so that floor and ceil stay small integers. Computed
+    column by column, so a point gets the same numbers in a block of the vertex pass and
+    among the few vertices looked at again (a matrix product need not)."""
+
+    def __init__(self, o, n, gap, samples, eps):
+        self.o, self.n, self.gap, self.samples, self.eps = o, n, gap, samples, eps
+        self.h = gap / samples
+        self.terms = [k for k in range(3) if n[k] != 0]     # (a zero term adds nothing)
+        self.blind = len(self.terms) < 3      # s does not see every coordinate
+        self.range = np.full(BLOCK, -1.0), np.full(BLOCK, samples + 1.0)   # of u
+        self.unit = np.zeros(BLOCK), np.ones(BLOCK)
+
+    def __call__(self, v, u):
+        """(s, on, d) of the rows v (k, 3), their levels written to u (k,): on the snapped
+        rows (None when none) and d how far each was from its plane."""
+        s = None
+        for k in self.terms:
+            t = v[:, k] - self.o[k]
+            if self.n[k] != 1:
+                t *= self.n[k]
+            s = t if s is None else np.add(s, t, out=s)
+        np.divide(s, self.h, out=u)
+        j = np.rint(u)
+        near = np.abs(np.subtract(u, j, out=j)) <= self.eps / self.h
+        on, d = None, None
+        if near.any():
+            on = np.flatnonzero(near)
+            j = np.rint(u.take(on))
+            inside = (j >= 0) & (j <= self.samples)
+            on, j = on[inside], j[inside]
+            if len(on):
+                d = s.take(on) - self.gap * j / self.samples
+                s[on] -= d
+                u[on] = j
+            else:
+                on = None
+        _clip(u, self.range)
+        return s, on, d
+
+    def placed(self, v):
+        """(s, u, the rows v snapped onto their planes) for rows v (k, 3) taken from V."""
+        u = np.empty(len(v))
+        s, on, d = self(v, u)
+        if on is not None:
+            v[on] -= d[:, None] * self.n
+        return s, u, v
+
+
+def _clip(x, bounds):
+    """np.clip(x, lo, hi, out=x) for bounds (lo, hi), two arrays of BLOCK copies: maximum
+    and minimum against arrays are about 2.5x faster on numpy 1.24 (np.clip, and a scalar
+    bound, take slower loops)."""
+    low, high = bounds
+    if len(x) > len(low):                     # (rows gathered again: a scalar will do)
+        low, high = low[0], high[0]
+    else:
+        low, high = low[:len(x)], high[:len(x)]
+    np.maximum(x, low, out=x)
+    return np.minimum(x, high, out=x)
 
 
 def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab, e_bc,
@@ -483,14 +593,15 @@ def _one_plane(W, a, b, c, q, p, lower, level, odd):
 
 
 def _sorted_corners(Tr, u0, u1, u2):
-    """Each triangle's corners (a, b, c) sorted by level, ties kept in corner order, and
-    whether that order reverses the triangle's orientation (an odd permutation): from
-    each corner's rank, a few comparisons on columns."""
+    """Each triangle's corners (a, b, c) sorted by level, ties kept in corner order,
+    whether that order reverses the triangle's orientation (an odd permutation), and their
+    levels (ua, ub, uc): from each corner's rank, a few comparisons on columns."""
     r0 = (u1 < u0).view(np.int8) + (u2 < u0)
     r1 = (u0 <= u1).view(np.int8) + (u2 < u1)
     i0, i1, i2 = (np.ascontiguousarray(col) for col in Tr.T)
     corner = [np.where(r0 == k, i0, np.where(r1 == k, i1, i2)) for k in range(3)]
-    return corner[0], corner[1], corner[2], (r1 - r0) % 3 != 1
+    level = [np.where(r0 == k, u0, np.where(r1 == k, u1, u2)) for k in range(3)]
+    return (*corner, (r1 - r0) % 3 != 1, *level)
 
 
 def _length(W, i, j):
