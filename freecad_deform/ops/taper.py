@@ -87,7 +87,7 @@ def mesh(base, origin, normal, gap, scale, rows, point=None, profile="Linear"):
     if point is None:
         point = pp.section_centroid_mesh(base, origin, normal, (v, t))
     smap = taper_map(origin, normal, gap, scale, rows, point, profile)
-    w, cut, _ = mesh_sweep.slab_cut(v, t, origin, normal, gap, MESH_SLABS, mesh_eps(v))
+    w, cut = mesh_sweep.slab_cut(v, t, origin, normal, gap, MESH_SLABS, mesh_eps(v))
     return pp.mesh_result((v, t), smap(w), cut)
 
 
