@@ -218,3 +218,47 @@ def test_a_mesh_of_many_blocks_is_cut_on_every_core_as_on_one(monkeypatch):
     w = np.linalg.norm(V0[T0] - V0[np.roll(T0, 1, axis=1)], axis=2).max()
     assert abs(volume(V, T) - volume(V0, T0)) <= 2 * np.pi * gap * (delta ** 2 / 8
                                                                      + w * delta / 12)
+
+
+def test_uncut_rows_kept_and_pieces_split_along_the_shorter_diagonal():
+    """A triangle crossing no plane keeps its row; each one crossing one plane (no corner
+    on it) gives its lone corner's triangle and a quadrilateral on the other side, split
+    along the shorter of its two diagonals in the twisted result, whichever side of the
+    plane the quadrilateral lies on (the lengths measured here on the result)."""
+    rng = np.random.default_rng(7)
+    n, origin, gap, samples = np.array([1.0, 0, 0]), np.zeros(3), 3.0, 3
+    V0, T0 = [], []
+    for k in range(300):                  # loose triangles, 3 apart in y
+        P = rng.uniform(-1, 1, (3, 3)) + [0, 3.0 * k, 0]
+        P[:, 0] = rng.uniform(-0.5, 3.5, 3)
+        V0.extend(P)
+        T0.append([3 * k, 3 * k + 1, 3 * k + 2])
+    V0, T0 = np.array(V0), np.array(T0)
+    V, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.9,
+                                                            [0, 450.0, 0]), samples)
+    cells = np.floor(V0[T0, 0] * samples / gap)
+    uncut = cells.min(axis=1) == cells.max(axis=1)
+    np.testing.assert_array_equal(T[:len(T0)][uncut], T0[uncut])
+    one = (cells.max(axis=1) - cells.min(axis=1) == 1) & (cells.max(axis=1) <= samples) & (
+        cells.max(axis=1) >= 0)
+    parent = np.full(len(V), -1)
+    parent[:len(V0)] = np.arange(len(V0)) // 3
+    for x in T:                               # a cut point belongs to its piece's triangle
+        known = parent[x][parent[x] >= 0]
+        parent[x[parent[x] < 0]] = known[0]
+    of = parent[T].max(axis=1)
+    checked = 0
+    for t in np.flatnonzero(one & ~uncut):
+        mine = [set(x) for x in T[of == t]]
+        assert len(mine) == 3
+        c = cells[t]
+        lone = T0[t][np.flatnonzero(c != np.median(c))[0]]  # the corner alone on its side
+        quad = [x for x in mine if lone not in x]
+        assert len(quad) == 2
+        diagonal = quad[0] & quad[1]
+        across = (quad[0] | quad[1]) - diagonal
+        assert len(diagonal) == 2 and len(across) == 2
+        length = [np.linalg.norm(np.subtract(*V[sorted(e)])) for e in (diagonal, across)]
+        assert length[0] <= length[1]
+        checked += 1
+    assert checked > 40

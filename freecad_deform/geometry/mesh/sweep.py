@@ -209,7 +209,7 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     sorted by level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c
     on the other are zipped from a to c, each quadrilateral between two planes split along
     its shorter diagonal in the moved mesh (a triangle crossing one plane, most of them,
-    gets its pieces written directly, the same ones). The cost is linear in the output (no
+    gets its pieces directly: _one_plane). The cost is linear in the output (no
     triangle is cut twice). Original vertices keep their indices, new ones are appended;
     orientation is kept; a triangle crossing no plane keeps its row, a cut one's row holds
     one of its pieces and the others follow the input's rows.
@@ -418,7 +418,7 @@ def _pieces(W, point, a, b, c, ub, uc, odd, planes, e):
     q[bc] = point(e_bc.take(t1.take(bc)), j.take(bc))
     new.reshape(-1)[((3 * offset.take(t1))[:, None] + np.arange(9)).reshape(-1)] = _one_plane(
         W, a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j), lower,
-        ub.take(t1) == uc.take(t1), odd.take(t1)).reshape(-1)  # flat: 1-D scatters are faster
+        odd.take(t1)).reshape(-1)             # flat: 1-D scatters are faster
     if len(tz):
         owner, i = _ranges(count.take(tz))
         new[offset.take(tz).take(owner) + i] = _zipped(
@@ -563,33 +563,39 @@ def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, 
     return new
 
 
-def _one_plane(W, a, b, c, q, p, lower, level, odd):
-    """The pieces (3k, 3) of k triangles crossing one plane, three each (some flat), as
-    _zipped makes them: corners a, b, c sorted by level; p the cut point on a -> c, q the
-    short chain's point on the plane (on b -> c when b is `lower` than it, else on a -> b,
-    or b itself); `level`: b and c on one level. Below the plane a lone a (or a and b),
-    above the rest; the quadrilateral is split along its shorter diagonal where _zipped
-    does (strict comparisons, the same lengths)."""
-    flip = _length(W, a, q) < _length(W, np.where(lower, b, a), p)
-    both = np.zeros(len(a), bool)             # b and c tied: (p, q, c), (c, q, b) unless
-    tie = np.flatnonzero(level)               # the diagonal p-b is the shorter one
-    both[tie] = ~(_length(W, p.take(tie), b.take(tie)) < _length(W, q.take(tie), c.take(tie)))
-    # lower (a and b below): (a, b, q), (a, q, p) where flipped, else (a, b, p), (p, b, q);
-    # then (p, q, c). Upper (a alone): (a, q, p) where flipped, else (p, a, q) (one
-    # triangle, started where _zipped starts it); then (p, q, b), (p, b, c), or where
-    # `both` (p, q, c), (c, q, b). Written corner by corner.
-    corners = [np.where(lower | flip, a, p), np.where(lower, b, np.where(flip, q, a)),
-               np.where(lower == flip, q, p),
-               np.where(lower & flip, a, p), np.where(lower & ~flip, b, q),
-               np.where(lower, np.where(flip, p, q), np.where(both, c, b)),
-               np.where(both, c, p), np.where(lower | both, q, b), np.where(both, b, c)]
-    out = np.empty((len(a), 9), np.int64)
-    for k in range(3):                        # reversed where the sorted order is odd
-        first, middle, last = corners[3 * k:3 * k + 3]
-        out[:, 3 * k] = np.where(odd, last, first)
-        out[:, 3 * k + 1] = middle
-        out[:, 3 * k + 2] = np.where(odd, first, last)
-    return out.reshape(-1, 3)
+def _one_plane(W, a, b, c, q, p, lower, odd):
+    """The pieces (3k, 3) of k triangles crossing one plane, three each (some flat):
+    corners a, b, c sorted by level; p the cut point on a -> c, q the short chain's point
+    on the plane (on b -> c when b is `lower` than it, else on a -> b, or b itself). The
+    lone corner's triangle, and the quadrilateral on the other side split along its
+    shorter diagonal in W (a-q or b-p below, p-b or q-c above); reversed where `odd`. The
+    corners come from a table of the 8 cases (_ONE_PLANE), in one gather."""
+    d1 = _length(W, np.where(lower, a, p), np.where(lower, q, b))
+    d2 = _length(W, np.where(lower, b, q), np.where(lower, p, c))
+    case = (lower.view(np.int8) * 4 + (d1 < d2).view(np.int8) * 2 + odd.view(np.int8))
+    source = np.stack([a, b, c, p, q], axis=1)
+    at = _ONE_PLANE.take(case, axis=0)
+    at += (5 * np.arange(len(a)))[:, None]
+    return source.reshape(-1).take(at).reshape(-1, 3)
+
+
+def _one_plane_table():
+    """_one_plane's corners by case lower * 4 + (first diagonal shorter) * 2 + odd, as
+    indices into (a, b, c, p, q). Below (a and b below the plane, c above): (a, b, q),
+    (a, q, p) split along a-q, or (a, b, p), (p, b, q) along b-p; then (p, q, c). Above
+    (a alone below): (a, q, p); then (p, q, b), (p, b, c) along p-b, or (p, q, c),
+    (c, q, b) along q-c."""
+    a, b, c, p, q = range(5)
+    pieces = {(1, 1): [a, b, q, a, q, p, p, q, c], (1, 0): [a, b, p, p, b, q, p, q, c],
+              (0, 1): [a, q, p, p, q, b, p, b, c], (0, 0): [a, q, p, p, q, c, c, q, b]}
+    table = np.empty((8, 9), np.int64)
+    for (lower, first), corners in pieces.items():
+        table[lower * 4 + first * 2] = corners
+        table[lower * 4 + first * 2 + 1] = np.reshape(corners, (3, 3))[:, ::-1].reshape(-1)
+    return table
+
+
+_ONE_PLANE = _one_plane_table()
 
 
 def _sorted_corners(Tr, u0, u1, u2):
