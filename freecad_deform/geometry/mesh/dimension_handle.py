@@ -120,15 +120,25 @@ def _edge_prisms(V, S, SL, planar):
     n1, n2 = ns[faces[:, 0]], ns[faces[:, 1]]
     keep = ~((la == lb) & planar[la]) & (np.einsum("ij,ij->i", n1, n2) < np.cos(MIN_TURN))
     edges, faces, la, lb, n1, n2 = (a[keep] for a in (edges, faces, la, lb, n1, n2))
-    mean = n1 + n2
-    mean /= np.linalg.norm(mean, axis=1, keepdims=True)
     # convex where the second triangle's far corner is below the first triangle's plane
     far = S[faces[:, 1]]
     far = far[(far != edges[:, :1]) & (far != edges[:, 1:])]
     convex = np.einsum("ij,ij->i", V[far] - V[edges[:, 0]], n1) < 0
     s = np.where(convex, 1.0, -1.0)[:, None]
-    dirs = np.stack([s * n1, s * n2, -s * mean], axis=1)
-    return edges, dirs, np.stack([la, lb], 1)
+    mean = n1 + n2
+    size = np.linalg.norm(mean, axis=1, keepdims=True)
+    # a fold (two triangles back to back, the same corners twice) has no mean normal: its
+    # limit, the direction in their plane from the far corner out across the edge
+    fold = size[:, 0] <= MIN_TURN
+    if fold.any():
+        out = np.cross(V[edges[fold, 1]] - V[edges[fold, 0]], n1[fold])
+        away = np.einsum("ij,ij->i", V[edges[fold, 0]] - V[far[fold]], out) >= 0
+        out *= np.where(away, 1.0, -1.0)[:, None]
+        mean[fold], size[fold] = -s[fold] * out, np.linalg.norm(out, axis=1, keepdims=True)
+    ok = size[:, 0] > 0                     # none where both triangles are degenerate
+    mean = mean[ok] / size[ok]
+    dirs = np.stack([s[ok] * n1[ok], s[ok] * n2[ok], -s[ok] * mean], axis=1)
+    return edges[ok], dirs, np.stack([la[ok], lb[ok]], 1)
 
 
 def build_handle(vertices, triangles, labels, planar, simplified):
