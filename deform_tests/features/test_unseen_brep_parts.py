@@ -52,3 +52,40 @@ def test_bend_at_a_plane_just_below_a_joint():
     # Pappus: the section (r 5, centroid on the part's axis, 15 from the bend axis)
     assert result.Volume == pytest.approx(solid.Volume + 25 * np.pi * 15.0 * angle, rel=1e-6)
     assert result.BoundBox.ZMin == pytest.approx(-10.0, abs=1e-9)
+
+
+def hyperbola_face():
+    """A planar face bounded by a whole-hyperbola edge and three lines: its pcurve is the
+    plane's own projection, a Hyperbola2d (a hexagonal nut's flats meet its chamfer cone
+    in such edges: OCCT's Pump_Nut)."""
+    h = Part.Hyperbola()
+    h.MajorRadius, h.MinorRadius = 2.0, 1.0
+    edge = Part.Edge(h, -0.5, 0.5)
+    p0, p1 = edge.Vertexes[0].Point, edge.Vertexes[1].Point
+    corners = [p1, V(6, p1.y, 0), V(6, p0.y, 0), p0]
+    return Part.Face(Part.Wire([edge] + [Part.makeLine(a, b) for a, b in zip(corners, corners[1:])]))
+
+
+def test_push_a_face_with_a_hyperbola_edge():
+    """FreeCAD 0.20 cannot discretize a whole Hyperbola2d ('Unknown C++ exception'): the
+    test whether a face is its whole surface (bspline.natural) asked for it, and DirectPush
+    on such a face, or Taper and Twist refitting one (Pump_Nut's flats), failed with that
+    raw error."""
+    import freecad_deform as fd
+    face = hyperbola_face()
+    assert type(face.curveOnSurface(face.Edges[0])[0]).__name__ == "Hyperbola2d"
+    doc = fc.new_document("UnseenHyperbola")
+    try:
+        base = doc.addObject("Part::Feature", "Base")
+        base.Shape = face
+        target = V(4, 0, 0.5)
+        obj = fd.make_direct_push(base, "Face1", V(4, 0, 0), target)
+        assert "Invalid" not in obj.State, obj.getStatusString()
+        assert obj.Shape.isValid()
+        assert obj.Shape.distToShape(Part.Vertex(target))[0] < 1e-9
+        # the boundary stays: the hyperbola edge's ends, the lines' corners
+        before = sorted(tuple(round(c, 9) for c in v.Point) for v in face.Vertexes)
+        after = sorted(tuple(round(c, 9) for c in v.Point) for v in obj.Shape.Vertexes)
+        assert before == after
+    finally:
+        App.closeDocument(doc.Name)

@@ -133,6 +133,16 @@ def trimmed(face):
         abs(Part.Face(_surface_of(face)[0]).Area - face.Area) > 1e-3 * face.Area
 
 
+def pcurve_points(c2d, a, b, count):
+    """`count` points of a 2D curve from a to b: discretize, or evenly in the parameter
+    where FreeCAD 0.20 cannot discretize it (a whole Hyperbola2d: an 'Unknown C++
+    exception'; a hexagonal nut's flats meet its chamfer cone in hyperbolas)."""
+    try:
+        return c2d.discretize(Number=count, First=a, Last=b)
+    except App.Base.FreeCADError:
+        return [c2d.value(t) for t in np.linspace(a, b, count)]
+
+
 def natural(face):
     """Whether the face is exactly its surface over its parameter range: one wire whose
     pcurves all lie on the border of the range (a seam or a degenerated edge lies on it)."""
@@ -145,11 +155,7 @@ def natural(face):
         if found is None:
             return False
         c2d, a, b = found
-        try:
-            samples = c2d.discretize(Number=16, First=a, Last=b)
-        except Part.OCCError:
-            return False
-        for p in samples:
+        for p in pcurve_points(c2d, a, b, 16):
             if min(abs(p.x - u0), abs(p.x - u1), abs(p.y - v0), abs(p.y - v1)) > tol:
                 return False
     return True
@@ -419,7 +425,7 @@ def boundary_uv(face, surface, prop="Element"):
     for edge in face.Edges:
         for e in (edge, edge.reversed()) if edge.isSeam(face) else (edge,):
             c2d, a, b = _pcurve(face, e, prop)
-            points += [(p.x, p.y) for p in c2d.discretize(Number=count, First=a, Last=b)]
+            points += [(p.x, p.y) for p in pcurve_points(c2d, a, b, count)]
     return np.array(points, float)
 
 
