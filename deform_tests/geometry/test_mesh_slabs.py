@@ -262,3 +262,17 @@ def test_uncut_rows_kept_and_pieces_split_along_the_shorter_diagonal():
         assert length[0] <= length[1]
         checked += 1
     assert checked > 40
+
+
+@settings(max_examples=60, deadline=None)
+@given(count=st.integers(0, 3000), bound=st.sampled_from([2, 50, 10 ** 6, 10 ** 12, 2 ** 62]),
+       stride=st.sampled_from([1, 2 ** 20, 2 ** 40]), seed=st.integers(0, 2 ** 32 - 1))
+def test_edge_keys_numbered_as_np_unique_numbers_them(count, bound, stride, seed):
+    """slab_cut numbers the edges of cut triangles by a hash table (_numbered): the
+    distinct keys are np.unique's, each once, and every key gets the number of its own
+    value; also for keys that share slots (strided keys, few slots)."""
+    from freecad_deform.geometry.mesh.sweep import _numbered
+    keys = np.random.default_rng(seed).integers(0, bound, count) // stride * stride
+    distinct, number = _numbered(keys)
+    np.testing.assert_array_equal(np.sort(distinct), np.unique(keys))
+    np.testing.assert_array_equal(distinct[number], keys)

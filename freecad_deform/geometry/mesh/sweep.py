@@ -349,7 +349,7 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
     hi = np.concatenate([b, c, c])
     crossing = np.flatnonzero(np.concatenate([n_ab, n_bc, n_ac]))
     lo, hi = lo.take(crossing), hi.take(crossing)
-    keys, inv = _unique_inverse(np.minimum(lo, hi) * N + np.maximum(lo, hi), N * N)
+    keys, inv = _numbered(np.minimum(lo, hi) * N + np.maximum(lo, hi))
     del lo, hi
     e_of = np.full(3 * len(a), -1)
     e_of[crossing] = inv.reshape(-1)
@@ -645,25 +645,28 @@ def _merge_segments(P, segments, eps):
     return P.take(np.flatnonzero(keep), axis=0), (np.cumsum(keep) - 1)[target]
 
 
-def _unique_inverse(keys, bound):
-    """np.unique(keys, return_inverse=True) for int64 keys in [0, bound): when they fit,
-    each key shifted left and its index put in the low bits, and those sorted (a plain sort
-    of keys that come in runs, as an edge list does, is about twice as fast as the argsort
-    np.unique makes)."""
+def _numbered(keys):
+    """(the distinct keys, the number of each key among them): np.unique(keys,
+    return_inverse=True) without its sort, in the order the keys come. Non-negative int64
+    keys go through a table 4 to 8 times their count by a multiplicative hash, the last
+    one written to a slot keeping it; the keys that find another key in their slot (about
+    4 % of them) are numbered among themselves by np.unique. 5 to 7x faster than the
+    sort on the edges of cut triangles."""
     m = len(keys)
-    shift = max(m - 1, 1).bit_length()
-    if not m or (int(bound) - 1).bit_length() + shift > 62:
-        return np.unique(keys, return_inverse=True)
-    packed = keys << shift
-    packed |= np.arange(m)
-    packed.sort(kind="stable")
-    ordered = packed >> shift
-    first = np.empty(m, bool)
-    first[0] = True
-    np.not_equal(ordered[1:], ordered[:-1], out=first[1:])
-    inverse = np.empty(m, np.int64)
-    inverse[packed & ((1 << shift) - 1)] = np.cumsum(first) - 1
-    return ordered[first], inverse
+    bits = max(10, (4 * m - 1).bit_length())
+    slot = keys * np.int64(-7046029254386353131)        # (wraps: a hash)
+    slot >>= np.int64(64 - bits)
+    slot &= (1 << bits) - 1
+    table = np.empty(1 << bits, np.int64)
+    table[slot] = np.arange(m)
+    first = table.take(slot)                  # an index of the same key, one per key
+    clash = np.flatnonzero(keys.take(first) != keys)
+    if len(clash):
+        _, at, back = np.unique(keys.take(clash), return_index=True, return_inverse=True)
+        first[clash] = clash.take(at).take(back.reshape(-1))
+    own = first == np.arange(m)
+    number = np.cumsum(own) - 1
+    return keys[own], number.take(first)
 
 
 def _planes_between(lo, hi, samples):
