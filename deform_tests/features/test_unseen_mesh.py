@@ -154,6 +154,59 @@ class FarFromTheOrigin(unittest.TestCase):
         self.check(before, after, origin, 5.3, 70.0, axis=1)
 
 
+def loose_box_ply(path, lx, ly, lz):
+    """An ASCII PLY of the box [0, lx] x [0, ly] x [0, lz] whose six faces each have their
+    own four corners (24 vertices, as exporters that write per-face normals do); FreeCAD's
+    PLY reader keeps them apart."""
+    corners = [(x, y, z) for x in (0, lx) for y in (0, ly) for z in (0, lz)]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    points = [corners[i] for q in quads for i in q]
+    faces = [(4 * k + a, 4 * k + b, 4 * k + c) for k in range(6) for a, b, c in ((0, 1, 2),
+                                                                              (0, 2, 3))]
+    with open(path, "w") as f:
+        f.write(f"ply\nformat ascii 1.0\nelement vertex {len(points)}\nproperty float x\n"
+                f"property float y\nproperty float z\nelement face {len(faces)}\n"
+                "property list uchar int vertex_indices\nend_header\n")
+        f.writelines(f"{x} {y} {z}\n" for x, y, z in points)
+        f.writelines(f"3 {a} {b} {c}\n" for a, b, c in faces)
+
+
+class LooseFaces(unittest.TestCase):
+    """common-3d-test-models / PCL cube.ply style meshes whose faces do not share their
+    corners: DimensionDrive moved the picked face alone (Achieved = Target, Up-to-date)
+    and left the side faces where they were, the box torn open. Oracle: every corner at
+    x = 10 goes to the target, the rest stay, and the loose faces still bound a box of the
+    target's volume (divergence theorem, written here)."""
+
+    def test_distance_on_a_box_of_loose_faces(self):
+        import os
+        import tempfile
+        doc = fc.new_document("UnseenLoose")
+        folder = tempfile.mkdtemp()
+        try:
+            path = os.path.join(folder, "box.ply")
+            loose_box_ply(path, 10.0, 20.0, 30.0)
+            base = doc.addObject("Mesh::Feature", "Loose")
+            base.Mesh = Mesh.Mesh(path)
+            self.assertEqual(base.Mesh.CountPoints, 24)
+            doc.recompute()
+            obj = fd.make_dimension_drive(base, "Distance", [V(10, 10, 15), V(0, 10, 15)], 12.0)
+            self.assertNotIn("Invalid", obj.State)
+            V0, T0 = arrays(base.Mesh)
+            V1, T1 = arrays(obj.Mesh)
+            self.assertEqual(T0.tolist(), T1.tolist())
+            far = V0[:, 0] == 10
+            np.testing.assert_allclose(V1[far, 0], 12.0, atol=1e-9)
+            np.testing.assert_array_equal(V1[~far], V0[~far])
+            np.testing.assert_array_equal(V1[:, 1:], V0[:, 1:])
+            self.assertAlmostEqual(volume(V1, T1), 12 * 20 * 30, delta=1e-9 * 7200)
+        finally:
+            App.closeDocument(doc.Name)
+            for name in os.listdir(folder):
+                os.remove(os.path.join(folder, name))
+            os.rmdir(folder)
+
+
 class FemElementKinds(unittest.TestCase):
     """sfepy's hsphere8.vtk and bridge3d.vtk (hexahedra only): the refusal said the Base
     'mixes element types'; it names what the Base holds."""

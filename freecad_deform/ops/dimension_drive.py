@@ -16,6 +16,7 @@ import numpy as np
 from ..geometry.errors import DeformError
 from ..geometry.mesh import dimension_drive as dd
 from ..geometry.mesh import volume_drive as vd
+from ..geometry.mesh.regions import weld
 from ..shapes.convert import moved_mesh
 from ..shapes.fem import fem_with_nodes
 
@@ -35,9 +36,14 @@ def handle(vertices, triangles, feature_angle=DEFAULT_FEATURE_ANGLE, handle_tole
            progress=lambda: None):
     """The handle of a triangle mesh (a geometry.mesh.dimension_drive.DimensionModel):
     feature_angle in degrees, handle_tolerance in mm (0: 0.5 % of the mesh size);
-    progress() is called after each of its STEPS."""
-    return dd.DimensionModel(vertices, triangles, _radians(feature_angle),
-                             handle_tolerance or None, progress)
+    progress() is called after each of its STEPS. Vertices at the same place are welded
+    first (loose faces of a PLY drive as one surface); `unwelded` maps the model's
+    vertices back to the mesh's."""
+    V, T, unwelded = weld(vertices, triangles)
+    model = dd.DimensionModel(V, T, _radians(feature_angle), handle_tolerance or None,
+                              progress)
+    model.unwelded = unwelded
+    return model
 
 
 def fem_handle(nodes, elements, feature_angle=DEFAULT_FEATURE_ANGLE, handle_tolerance=0.0,
@@ -112,7 +118,8 @@ def mesh(model, base_mesh, kind, regions, target, origin=None, axis_point=None,
     with new handles (the paper's dynamic handle)."""
     vertices, outputs = _moved(model, dd.drive, dd.deformed, kind, regions, target, origin,
                                axis_point, rehandle)
-    return moved_mesh(base_mesh, vertices), outputs
+    unwelded = getattr(model, "unwelded", None)
+    return moved_mesh(base_mesh, vertices if unwelded is None else vertices[unwelded]), outputs
 
 
 def fem(model, femmesh, ids, kind, regions, target, origin=None, axis_point=None,

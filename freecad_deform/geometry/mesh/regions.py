@@ -16,6 +16,23 @@ def triangle_normals(vertices, triangles):
     return n / np.where(length > 0, length, 1.0)[:, None], 0.5 * length
 
 
+def weld(vertices, triangles):
+    """(vertices, triangles, inverse): the vertices at exactly the same place made one (a
+    PLY or OFF exporter that writes each face's own corners leaves a closed part as loose
+    faces), kept in the order of their first use; vertices[inverse] gives the input's back.
+    The triangles keep their order."""
+    V = np.asarray(vertices, float).reshape(-1, 3)
+    T = np.asarray(triangles, np.int64).reshape(-1, 3)
+    _, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    if len(first) == len(V):
+        return V, T, np.arange(len(V))
+    order = np.argsort(first)                       # welded vertices in first-use order
+    rank = np.empty(len(first), np.int64)
+    rank[order] = np.arange(len(first))
+    return V[first[order]], rank[inverse][T], rank[inverse]
+
+
 def edge_triangles(triangles):
     """(edges (E,2) sorted vertex pairs, faces (E,2) the triangles on each side, -1 on a
     border). An edge with more than two triangles (non-manifold) keeps its first two."""
