@@ -9,7 +9,8 @@ Prints tables, asserts nothing about time. Every row runs in its own Python proc
 inputs are built once and handed over as .npy files), so its peak memory is its own: `base
 RSS` is the process's resident memory once the input and the document are set up, `peak
 RSS` the high-water mark of the timed runs alone (Linux: the mark is reset through
-/proc/self/clear_refs before them). The floor is measured in the same process, right after:
+/proc/self/clear_refs before them), `page faults` the minor faults a timed run took (see
+faults()). The floor is measured in the same process, right after:
 
   Stretch  numpy V + (s > 0)[:, None] * d * n over the same points
   Bend     numpy P @ R.T + t (the far part's rigid turn) over the same points
@@ -59,6 +60,15 @@ def memory(field):
     """A VmRSS/VmHWM line of /proc/self/status, in MB."""
     with open("/proc/self/status") as f:
         return next(int(line.split()[1]) for line in f if line.startswith(field)) / 1024
+
+
+def faults():
+    """This process's minor page faults so far: memory the kernel had to map (and zero)
+    afresh. glibc gives a freed heap back to the system when its top grows past a
+    threshold, so the same call can fault in tens of MB or none from one process to the
+    next; the column shows which of the two a row's timing had."""
+    import resource
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
 
 
 def reset_peak():
@@ -184,16 +194,20 @@ def run_row(name, data_dir, runs, budget):
     fn()   # warm: caches (the cloud's spacing) as a recompute of the same Base finds them
     base_rss = memory("VmRSS")
     clean = reset_peak()
+    before = faults()
     ours, n = timer.median(fn)
+    ours_faults = (faults() - before) / n
     peak = memory("VmHWM")
-    floor, _ = timer.median(floor_fn(op, points), max(n, 5))
+    before = faults()
+    floor, m = timer.median(floor_fn(op, points), max(n, 5))
+    floor_faults = (faults() - before) / m
     turn_floor = None
     if op == "Twist":
         axis_point = twist_axis(base.Mesh if kind == "mesh" else data)[0]
         turn_floor, _ = timer.median(turn_floor_fn(points, axis_point), max(n, 5))
     parts, total = profiled(fn, CALLS) if what == "recompute" else ({}, 0.0)
     print(json.dumps(dict(name=name, runs=n, ours=ours, floor=floor, turn_floor=turn_floor,
-                          base_rss=base_rss,
+                          faults=(ours_faults, floor_faults), base_rss=base_rss,
                           peak_rss=peak if clean else None, out=int(size), parts=parts,
                           total=total)))
 
@@ -337,6 +351,7 @@ def main(argv=None):
                          f"{r['ours'] / r['floor']:.1f}",
                          "" if turned is None else seconds(turned),
                          "" if turned is None else f"{r['ours'] / turned:.1f}",
+                         f"{r['faults'][0]:.0f} / {r['faults'][1]:.0f}",
                          f"{r['base_rss']:.0f}", peak, f"{r['out']:,}"))
             goal, met = target(kind, op, what, r, peer)
             goals.append((name, sizes[kind], seconds(r["ours"]), goal, "yes" if met else "NO"))
@@ -349,7 +364,7 @@ def main(argv=None):
                             f"peak {peak} MB")
     print_table("Point clouds and meshes: ours vs the numpy floor (seconds, median; RSS in MB)",
                 ("case", "input", "runs", "ours", "floor", "ratio", "turn floor", "ratio",
-                 "base RSS", "peak RSS", "output"), rows)
+                 "page faults a run (ours / floor)", "base RSS", "peak RSS", "output"), rows)
     if isinstance(peer, dict):
         print_table(f"Blender {peer['version']} Simple Deform (blender -b, median of "
                     f"{timer.runs}): the whole evaluation (depsgraph update + to_mesh), and "
