@@ -7,6 +7,8 @@ the planes is cut into `samples` slabs and each vertex mapped by the motion at i
 the gap, the part beyond Plane2 moved rigidly. Meshes are vertices (N, 3) float and triangles
 (M, 3) int, counter-clockwise seen from outside; s is the signed distance to Plane.
 """
+from math import isfinite
+
 import numpy as np
 
 from ..errors import DeformError
@@ -181,18 +183,27 @@ def move_by_fraction(points, f, motion_of_s, in_place=False):
                                P.take(move, axis=0))
         return out
     for i in range(0, len(P), BLOCK):
-        fb, o = f[i:i + BLOCK], out[i:i + BLOCK]
-        moving = fb > 0
-        if moving.any():
-            for k, minus in enumerate(motion_of_s.shifts(P[i:i + BLOCK], fb)):
-                if minus is not None:
-                    column = o[:, k]
-                    minus += 0.0
-                    if np.isfinite(minus).all():
-                        np.subtract(column, minus, out=column)
-                    else:
-                        np.subtract(column, minus, out=column, where=moving)
+        _move_block(P[i:i + BLOCK], f[i:i + BLOCK], out[i:i + BLOCK], motion_of_s)
     return out
+
+
+def _move_block(P, f, out, motion_of_s, finite=False):
+    """move_by_fraction on one block (rows P into out, which may be P) by a motion with
+    `shifts`. The block's lowest and highest fraction decide the work: none when all are
+    0; one angle for all when all are 1 (no sine per row); no +0.0 when none is 0.
+    finite: the caller knows every point is finite (no masked subtraction)."""
+    low, high = f.min(), f.max()
+    if high <= 0:
+        return
+    for k, minus in enumerate(motion_of_s.shifts(P, 1.0 if low == 1 else f)):
+        if minus is not None:
+            column = out[:, k]
+            if not low > 0:                   # (some rows stay, or a fraction is NaN)
+                minus += 0.0
+            if finite or np.isfinite(minus).all():
+                np.subtract(column, minus, out=column)
+            else:
+                np.subtract(column, minus, out=column, where=f > 0)
 
 
 def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
@@ -229,45 +240,49 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     # per vertex, BLOCK at a time (in the cache), in one pass: its level u and cell between
     # planes (snapped within eps of a plane), its fraction and its moved place; W gets room
     # for the cut points too (grown below when a cut makes more). A vertex that is not
-    # finite makes a level that is not (checked once, after the pass), unless it is in a
-    # coordinate the normal does not see (`blind`: checked then)
+    # finite makes a level that is not (refused before its cell is cast), unless it is in a
+    # coordinate the normal does not see (`blind`: checked then). (No np.errstate here: on
+    # numpy 1.24 it adds 4 us to every ufunc call inside it, 2.5x the pass.)
     room = N + N // 8 + 1024
     W = np.empty((room, 3))
     u = np.empty(N)
     small = np.int8 if samples < 120 else np.int16 if samples < 30000 else np.int32
     cell = np.empty(N, small)
 
+    shifts = hasattr(motion_of_s, "shifts")
+
     def vertex_pass(start, stop):             # -> (lowest, highest s) of its vertices
         lo, hi = np.inf, -np.inf
         fraction = np.empty(min(BLOCK, stop - start))
-        with np.errstate(invalid="ignore"):   # (NaN cast to a cell: refused below)
-            for i in range(start, stop, BLOCK):
-                v = V[i:min(i + BLOCK, stop)]
-                end = i + len(v)
-                s, on, d = levels(v, u[i:end])
-                lo, hi = np.minimum(lo, s.min()), np.maximum(hi, s.max())  # NaN stays
-                if levels.blind and not np.isfinite(v).all():
-                    lo = np.nan
-                np.floor(u[i:end], out=cell[i:end], casting="unsafe")
-                w = W[i:end]
-                w[...] = v
+        for i in range(start, stop, BLOCK):
+            v = V[i:min(i + BLOCK, stop)]
+            end = i + len(v)
+            s, on, d = levels(v, u[i:end])
+            low, high = float(s.min()), float(s.max())
+            if not (isfinite(low) and isfinite(high)) or levels.blind and not np.isfinite(
+                    v).all():
+                raise DeformError("The Base mesh has vertices that are not finite numbers "
+                                  "(NaN or infinity) or too large to measure; repair or "
+                                  "replace the Base mesh.", "Base")
+            lo, hi = min(lo, low), max(hi, high)
+            np.floor(u[i:end], out=cell[i:end], casting="unsafe")
+            w = W[i:end]
+            w[...] = v
+            if on is not None:
+                w[on] -= d[:, None] * ns
+            if motion_of_s is not None:
+                f = np.divide(s, gap, out=fraction[:len(v)])
+                _clip(f, levels.unit)
                 if on is not None:
-                    w[on] -= d[:, None] * ns
-                if motion_of_s is not None:
-                    f = np.divide(s, gap, out=fraction[:len(v)])
-                    _clip(f, levels.unit)
-                    if on is not None:
-                        f[on] = u[i:end].take(on) / samples
+                    f[on] = u[i:end].take(on) / samples
+                if shifts:
+                    _move_block(w, f, w, motion_of_s, finite=True)
+                else:
                     move_by_fraction(w, f, motion_of_s, in_place=True)
         return lo, hi
 
     lo, hi = np.array(in_parallel(vertex_pass, N)).T
-    lo, hi = lo.min(), hi.max()               # (NaN stays)
-    ends = np.array([lo, hi])
-    if not np.isfinite(ends).all():
-        raise DeformError("The Base mesh has vertices that are not finite numbers (NaN or "
-                          "infinity) or too large to measure; repair or replace the Base mesh.",
-                          "Base")
+    ends = np.array([lo.min(), hi.max()])
     check_crossing(ends, "Plane", eps, touching=True)
     check_crossing(ends - gap, "Plane2", eps, touching=True)
     # which triangles cross a plane: only those whose corners are not all in one cell
@@ -295,7 +310,11 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
         keep[rows] = False
         return W, np.concatenate([T[keep], new])
     out = np.empty((M + len(new) - len(rows), 3), np.int64)
-    out[:M] = T
+
+    def copy(start, stop):
+        out[start:stop] = T[start:stop]
+
+    in_parallel(copy, M)
     out[rows] = new[:len(rows)]
     out[M:] = new[len(rows):]
     return W, out
