@@ -215,7 +215,9 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     A vertex that is not finite is refused naming Base, planes that miss the part naming
     Plane or Plane2. Vertices within eps of a plane are snapped onto it; every edge gets one
     new vertex per plane it crosses (shared by its two triangles, so closed stays closed),
-    and the cut points joined by a section segment shorter than eps are merged. A triangle
+    and the cut points joined by a section segment shorter than eps are merged (pieces a
+    merge leaves as one triangle both ways round are dropped, _without_fins; a vertex
+    whose every piece went with them stays among the vertices, unused). A triangle
     crossing k planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane):
     sorted by level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c
     on the other are zipped from a to c, each quadrilateral between two planes split along
@@ -331,13 +333,37 @@ def _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps, motion_of_s):
     rows, a, b, c, odd, ub, uc, planes = _crossed(T, u, maybe, samples)
     if not len(rows):
         return W[:N], None, rows
-    P, point, e = _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps,
-                              motion_of_s)
+    P, point, e, merged = _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples,
+                                      eps, motion_of_s)
     K = len(P)
     W = np.concatenate([W[:N], P]) if N + K > room else W[:N + K]
     W[N:] = P
     del P
-    return W, without_flat(_pieces(W, point, a, b, c, ub, uc, odd, planes, e)), rows
+    new = without_flat(_pieces(W, point, a, b, c, ub, uc, odd, planes, e))
+    return W, _without_fins(new, N + merged) if len(merged) else new, rows
+
+
+def _without_fins(new, merged):
+    """The pieces without the pairs that are one triangle both ways round. Where every
+    cut point about a vertex near a plane merged into one (a spike, or a tolerance near
+    half the spacing of the planes), the pieces on either side of that vertex's edges
+    can come out as the same three corners in opposite orders: a fin of no volume whose
+    edges four pieces would share. Only the pieces at a merged point (`merged`) can be."""
+    at = np.flatnonzero(np.isin(new, merged).any(axis=1))
+    if not len(at):
+        return new
+    key = np.sort(new.take(at, axis=0), axis=1)
+    first = np.argmin(new.take(at, axis=0), axis=1)
+    turned = np.take_along_axis(new.take(at, axis=0), (first[:, None] + np.arange(3)) % 3, 1)
+    ascending = turned[:, 1] < turned[:, 2]   # the orientation, against the sorted corners
+    seen, fins = {}, []
+    for row, corners, up in zip(at.tolist(), map(tuple, key.tolist()), ascending.tolist()):
+        pending = seen.setdefault(corners, ([], []))
+        if pending[not up]:
+            fins += [pending[not up].pop(), row]
+        else:
+            pending[up].append(row)
+    return np.delete(new, fins, axis=0) if fins else new
 
 
 def _crossed(T, u, maybe, samples):
@@ -361,7 +387,8 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
     vertex indices), those joined by a section segment shorter than eps merged, moved by
     the motion at their plane's fraction. Returns (the points (K, 3), point(e, plane): the
     vertex of edge e's point on that plane (N + its row), the edge numbers (e_ab, e_bc,
-    e_ac) of the triangles, -1 where an edge crosses none)."""
+    e_ac) of the triangles, -1 where an edge crosses none, the rows of the points that
+    several were merged into)."""
     f_ab, n_ab, f_bc, n_bc, f_ac, n_ac = planes
     N = len(V)
     lo = np.concatenate([a, b, a])
@@ -414,7 +441,7 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
     def point(e, jj):
         return N + label.take(raw(e, jj))
 
-    return P, point, (e_ab, e_bc, e_ac)
+    return P, point, (e_ab, e_bc, e_ac), np.flatnonzero(np.bincount(label) > 1)
 
 
 def _pieces(W, point, a, b, c, ub, uc, odd, planes, e):
