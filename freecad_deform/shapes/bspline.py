@@ -589,16 +589,17 @@ def _largest_gap(face, edge, c2d, a, b, per_span):
     return max(gaps[i], -found.fun)
 
 
-def pcurve_gaps(face, per_span=9):
+def pcurve_gaps(face, per_span=9, which=None):
     """[(edge, largest distance between its 3D curve and its pcurve on `face`, at the same
     parameter)] for the face's edges (both pcurves of a seam); inf where an edge has no
     pcurve. OCCT's projected pcurves on a rational surface (a converted circle) can follow
     another parametrisation, and a refit surface's many spans bend a pcurve's image away
     from the 3D curve between samples: isValid() (23 samples an edge) passes, the BOP
-    check (BOPAlgo_InvalidCurveOnSurface) and booleans fail."""
+    check (BOPAlgo_InvalidCurveOnSurface) and booleans fail. `which(edge)`: only those
+    edges."""
     out = []
     for edge in face.Edges:
-        if edge.Degenerated:
+        if edge.Degenerated or (which is not None and not which(edge)):
             continue
         worst = 0.0
         for e in (edge, edge.reversed()) if edge.isSeam(face) else (edge,):
