@@ -178,21 +178,13 @@ def test_triangles_crossing_none_one_or_several_planes(flipped):
                      and np.sort(x)[0] < np.sort(x)[1] < np.sort(x)[2] for x in V0[T0, 0]])
     pieces = np.bincount(parent, minlength=len(T0))
     np.testing.assert_array_equal(pieces, np.where(crossed == 0, 1, 2 * crossed + 1 - b_on))
-    # turned: every vertex back by its own angle lands where the untwisted cut put it, and
-    # the pieces (their quadrilaterals split along the diagonal shorter after the turn) in
-    # their parents' planes, as many, each parent's area again
+    # turned: the same pieces (the cut does not depend on the motion), every vertex back by
+    # its own angle where the untwisted cut put it
     angle = 1.3
     Vt, Tt = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, angle), samples)
+    np.testing.assert_array_equal(Tt, T)
     back = Rotation.from_rotvec(-angle * np.clip(Vt[:, 0] / gap, 0, 1)[:, None] * n).apply(Vt)
     np.testing.assert_allclose(back, V, atol=1e-12)
-    off = np.abs(np.einsum("pk,tk->pt", V[Tt].mean(axis=1), unit_normals)
-                 - np.einsum("tk,tk->t", V0[T0[:, 0]], unit_normals))
-    parent_t = off.argmin(axis=1)
-    assert off.min(axis=1).max() < 1e-12
-    np.testing.assert_array_equal(np.bincount(parent_t, minlength=len(T0)), pieces)
-    np.testing.assert_allclose(np.bincount(parent_t, np.linalg.norm(triangle_normals(V, Tt),
-                                                                    axis=1) / 2, len(T0)),
-                               np.linalg.norm(normals, axis=1) / 2, rtol=1e-12)
 
 
 def test_a_mesh_of_many_blocks_is_cut_on_every_core_as_on_one(monkeypatch):
@@ -223,8 +215,8 @@ def test_a_mesh_of_many_blocks_is_cut_on_every_core_as_on_one(monkeypatch):
 def test_uncut_rows_kept_and_pieces_split_along_the_shorter_diagonal():
     """A triangle crossing no plane keeps its row; each one crossing one plane (no corner
     on it) gives its lone corner's triangle and a quadrilateral on the other side, split
-    along the shorter of its two diagonals in the twisted result, whichever side of the
-    plane the quadrilateral lies on (the lengths measured here on the result)."""
+    along the shorter of its two diagonals in the input, whichever side of the plane the
+    quadrilateral lies on (the lengths measured here on the untwisted result)."""
     rng = np.random.default_rng(7)
     n, origin, gap, samples = np.array([1.0, 0, 0]), np.zeros(3), 3.0, 3
     V0, T0 = [], []
@@ -234,8 +226,9 @@ def test_uncut_rows_kept_and_pieces_split_along_the_shorter_diagonal():
         V0.extend(P)
         T0.append([3 * k, 3 * k + 1, 3 * k + 2])
     V0, T0 = np.array(V0), np.array(T0)
-    V, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.9,
+    _, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.9,
                                                             [0, 450.0, 0]), samples)
+    V, _ = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.0), samples)
     cells = np.floor(V0[T0, 0] * samples / gap)
     uncut = cells.min(axis=1) == cells.max(axis=1)
     np.testing.assert_array_equal(T[:len(T0)][uncut], T0[uncut])
@@ -298,3 +291,23 @@ def test_cut_points_merged_about_a_vertex_leave_no_fin(eps):
     assert len(np.setdiff1d(np.arange(len(V)), T)) <= 1
     area = np.linalg.norm(triangle_normals(V0, T0), axis=1).sum() / 2
     assert abs(volume(V, T) - volume(V0, T0)) <= eps * area
+
+
+@pytest.mark.parametrize("levels", [(0, 20), (0, 5, 10, 15, 20)])
+@pytest.mark.parametrize("start, gap", [(4.0, 2.0), (3.0, 10.0)])
+def test_coarse_box_twisted_keeps_its_volume_to_the_sag_of_its_facets(levels, start, gap):
+    """A 20 mm box with walls of 2 to 8 tall triangles a side, twisted 30 deg about its
+    axis, Samples 16: its volume changes by at most the sag of flat facets between rings
+    turned by delta, r delta^2 / 8 over the twisted walls (perimeter x gap), r the
+    section's corner radius (the real-parts oracle's bound). Splitting each twisted
+    quadrilateral along the diagonal shorter after the turn put every facet on one side
+    of the twisted surface: +4.2 to +23.8 mm^3 against bounds of 0.30 and 1.51."""
+    from .test_mesh_sweep import SQUARE, prism
+    V0, T0 = prism(10 * SQUARE, levels=levels)
+    n = np.array([0, 0, 1.0])
+    origin, angle, samples = start * n, np.radians(30), 16
+    V, T = map_between(V0, T0, origin, n, gap,
+                       twist_motion(origin, n, gap, angle, np.zeros(3), n), samples)
+    assert_closed_manifold(V, T)
+    sag = 80 * gap * 10 * np.sqrt(2) * (angle / samples) ** 2 / 8
+    assert abs(volume(V, T) - volume(V0, T0)) <= sag

@@ -221,8 +221,11 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     crossing k planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane):
     sorted by level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c
     on the other are zipped from a to c, each quadrilateral between two planes split along
-    its shorter diagonal in the moved mesh (a triangle crossing one plane, most of them,
-    gets its pieces directly: _one_plane). The cost is linear in the output (no
+    its shorter diagonal in the input (a triangle crossing one plane, most of them, gets
+    its pieces directly: _one_plane). Measured in the input, the split does not depend on
+    the motion: in the moved mesh a twisted quadrilateral's shorter diagonal lies on one
+    side of the twisted surface, and a coarse mesh then gained up to 7e-3 of A x gap in
+    volume. The cost is linear in the output (no
     triangle is cut twice). Original vertices keep their indices, new ones are appended;
     orientation is kept; a triangle crossing no plane keeps its row, a cut one's row holds
     one of its pieces and the others follow the input's rows.
@@ -333,13 +336,20 @@ def _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps, motion_of_s):
     rows, a, b, c, odd, ub, uc, planes = _crossed(T, u, maybe, samples)
     if not len(rows):
         return W[:N], None, rows
-    P, point, e, merged = _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples,
-                                      eps, motion_of_s)
+    P, unmoved, point, e, merged = _cut_points(V, levels, a, b, c, ub, planes, o, n, gap,
+                                               samples, eps, motion_of_s)
     K = len(P)
     W = np.concatenate([W[:N], P]) if N + K > room else W[:N + K]
     W[N:] = P
     del P
-    new = without_flat(_pieces(W, point, a, b, c, ub, uc, odd, planes, e))
+
+    def place(k):                         # the vertices k where the input has them
+        at = V.take(np.minimum(k, N - 1), axis=0)
+        cut = np.flatnonzero(k >= N)
+        at[cut] = unmoved.take(k.take(cut) - N, axis=0)
+        return at
+
+    new = without_flat(_pieces(place, point, a, b, c, ub, uc, odd, planes, e))
     return W, _without_fins(new, N + merged) if len(merged) else new, rows
 
 
@@ -385,7 +395,8 @@ def _crossed(T, u, maybe, samples):
 def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_of_s):
     """One new vertex per (edge, plane) for the edges that cross one (keyed by their sorted
     vertex indices), those joined by a section segment shorter than eps merged, moved by
-    the motion at their plane's fraction. Returns (the points (K, 3), point(e, plane): the
+    the motion at their plane's fraction. Returns (the points (K, 3), the same not moved,
+    point(e, plane): the
     vertex of edge e's point on that plane (N + its row), the edge numbers (e_ab, e_bc,
     e_ac) of the triangles, -1 where an edge crosses none, the rows of the points that
     several were merged into)."""
@@ -432,19 +443,20 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
     short = np.where(jj < ubt, raw(np.maximum(e_ab.take(t), 0), jj),   # (-1: the edge crosses
                      raw(np.maximum(e_bc.take(t), 0), jj))             # none; not chosen)
     seg = np.stack([raw(e_ac.take(t), jj), short], 1).take(np.flatnonzero(jj != ubt), axis=0)
-    P, label = _merge_segments(P, seg, eps)
+    unmoved, label = _merge_segments(P, seg, eps)
+    P = unmoved
     if motion_of_s is not None:
         f = np.empty(len(P))
         f[label] = jp / samples
-        move_by_fraction(P, f, motion_of_s, in_place=True)
+        P = move_by_fraction(unmoved, f, motion_of_s)
 
     def point(e, jj):
         return N + label.take(raw(e, jj))
 
-    return P, point, (e_ab, e_bc, e_ac), np.flatnonzero(np.bincount(label) > 1)
+    return P, unmoved, point, (e_ab, e_bc, e_ac), np.flatnonzero(np.bincount(label) > 1)
 
 
-def _pieces(W, point, a, b, c, ub, uc, odd, planes, e):
+def _pieces(place, point, a, b, c, ub, uc, odd, planes, e):
     """The pieces of the cut triangles, each triangle's in turn: most cross one plane, and
     theirs are written directly (_one_plane); the others' by zipping their two chains
     (_zipped)."""
@@ -463,12 +475,12 @@ def _pieces(W, point, a, b, c, ub, uc, odd, planes, e):
     q[ab] = point(e_ab.take(t1.take(ab)), j.take(ab))
     q[bc] = point(e_bc.take(t1.take(bc)), j.take(bc))
     new.reshape(-1)[((3 * offset.take(t1))[:, None] + np.arange(9)).reshape(-1)] = _one_plane(
-        W, a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j), lower,
+        place, a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j), lower,
         odd.take(t1)).reshape(-1)             # flat: 1-D scatters are faster
     if len(tz):
         owner, i = _ranges(count.take(tz))
         new[offset.take(tz).take(owner) + i] = _zipped(
-            W, point, *(x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc,
+            place, point, *(x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc,
                                               f_ac, n_ac, e_ab, e_bc, e_ac)))
     return new
 
@@ -537,12 +549,13 @@ def _clip(x, bounds):
     return np.minimum(x, high, out=x)
 
 
-def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab, e_bc,
+def _zipped(place, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab, e_bc,
             e_ac):
     """The pieces (E, 3) of triangles crossing planes, each triangle's (a, b, c: its corners
     sorted by level ub, uc; odd: that order reverses it) in turn, flat ones included: its two
     chains a -> c and a -> b -> c (f_*, n_*: the first plane and count each edge crosses;
-    e_*: the edge's number for point(e, plane), its cut point's vertex) zipped from a to c.
+    e_*: the edge's number for point(e, plane), its cut point's vertex) zipped from a to c;
+    place(vertices): where the input has them, for the diagonals.
     """
     # the events of each triangle (the vertices of its two chains after a) in level order,
     # ties put the long chain (a -> c) first
@@ -554,7 +567,7 @@ def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, 
     long = np.zeros(E, bool)
     lvl = np.empty(E)
 
-    def place(t, pos, v, lv, is_long):
+    def put(t, pos, v, lv, is_long):
         g = offset.take(t) + pos
         vert[g], lvl[g], long[g] = v, lv, is_long
 
@@ -563,22 +576,22 @@ def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, 
 
     t, i = _ranges(n_ac)                  # the long chain's cut points, then c
     jj = f_ac.take(t) + i
-    place(t, i + below(jj, f_ab.take(t), n_ab.take(t)) + (ub.take(t) < jj)
+    put(t, i + below(jj, f_ab.take(t), n_ab.take(t)) + (ub.take(t) < jj)
           + below(jj, f_bc.take(t), n_bc.take(t)), point(e_ac.take(t), jj), jj, True)
     t = np.arange(m)
-    place(t, n_ac + n_ab + (ub < uc) + n_bc, c, uc, True)
+    put(t, n_ac + n_ab + (ub < uc) + n_bc, c, uc, True)
     t, i = _ranges(n_ab)                  # the short chain: cut points of ab, b, of bc, c
     jj = f_ab.take(t) + i
-    place(t, i + below(jj + 1, f_ac.take(t), n_ac.take(t)), point(e_ab.take(t), jj), jj, False)
+    put(t, i + below(jj + 1, f_ac.take(t), n_ac.take(t)), point(e_ab.take(t), jj), jj, False)
     t = np.arange(m)
-    place(t, n_ab + below(np.floor(ub).astype(np.int64) + 1, f_ac, n_ac) + (uc <= ub), b, ub,
+    put(t, n_ab + below(np.floor(ub).astype(np.int64) + 1, f_ac, n_ac) + (uc <= ub), b, ub,
           False)
     t, i = _ranges(n_bc)
     jj = f_bc.take(t) + i
-    place(t, n_ab.take(t) + 1 + i + below(jj + 1, f_ac.take(t), n_ac.take(t)),
+    put(t, n_ab.take(t) + 1 + i + below(jj + 1, f_ac.take(t), n_ac.take(t)),
           point(e_bc.take(t), jj), jj, False)
     t = np.arange(m)
-    place(t, count - 1, c, uc, False)
+    put(t, count - 1, c, uc, False)
 
     # each event closes the triangle (current long-chain vertex, current short-chain
     # vertex, the event's vertex); the current vertices start at a
@@ -600,7 +613,7 @@ def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, 
     # (Lp, Sp, Sj, Lj) split along Sp-Lj; take Lp-Sj instead when it is shorter
     x = np.flatnonzero(long[:-1] & ~long[1:] & (tri[:-1] == tri[1:]) & (lvl[:-1] == lvl[1:]))
     Lp, Sp, Lj, Sj = cur_long.take(x), cur_short.take(x), vert.take(x), vert.take(x + 1)
-    flip = _length(W, Lp, Sj) < _length(W, Sp, Lj)
+    flip = _length(place, Lp, Sj) < _length(place, Sp, Lj)
     x, Lp, Sp, Lj, Sj = x[flip], Lp[flip], Sp[flip], Lj[flip], Sj[flip]
     new[x] = np.stack([Lp, Sp, Sj], 1)
     new[x + 1] = np.stack([Lp, Sj, Lj], 1)
@@ -609,15 +622,16 @@ def _zipped(W, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, 
     return new
 
 
-def _one_plane(W, a, b, c, q, p, lower, odd):
+def _one_plane(place, a, b, c, q, p, lower, odd):
     """The pieces (3k, 3) of k triangles crossing one plane, three each (some flat):
     corners a, b, c sorted by level; p the cut point on a -> c, q the short chain's point
     on the plane (on b -> c when b is `lower` than it, else on a -> b, or b itself). The
     lone corner's triangle, and the quadrilateral on the other side split along its
-    shorter diagonal in W (a-q or b-p below, p-b or q-c above); reversed where `odd`. The
+    shorter diagonal in the input (place: a-q or b-p below, p-b or q-c above); reversed
+    where `odd`. The
     corners come from a table of the 8 cases (_ONE_PLANE), in one gather."""
-    d1 = _length(W, np.where(lower, a, p), np.where(lower, q, b))
-    d2 = _length(W, np.where(lower, b, q), np.where(lower, p, c))
+    d1 = _length(place, np.where(lower, a, p), np.where(lower, q, b))
+    d2 = _length(place, np.where(lower, b, q), np.where(lower, p, c))
     case = (lower.view(np.int8) * 4 + (d1 < d2).view(np.int8) * 2 + odd.view(np.int8))
     source = np.stack([a, b, c, p, q], axis=1)
     at = _ONE_PLANE.take(case, axis=0)
@@ -656,10 +670,10 @@ def _sorted_corners(Tr, u0, u1, u2):
     return (*corner, (r1 - r0) % 3 != 1, *level)
 
 
-def _length(W, i, j):
-    """Distances between the rows i and j of W."""
-    d = W.take(i, axis=0)
-    d -= W.take(j, axis=0)
+def _length(place, i, j):
+    """Distances between the vertices i and j, placed by place(indices) -> (k, 3)."""
+    d = place(i)
+    d -= place(j)
     d *= d
     return np.sqrt(d[:, 0] + d[:, 1] + d[:, 2])     # (sum(axis=1) is slower on short rows)
 
