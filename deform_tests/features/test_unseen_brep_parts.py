@@ -139,3 +139,23 @@ def test_stretched_bspline_sheet_passes_the_bop_check(turn, at):
         rim = [e for e in strip[0].Edges if abs(e.BoundBox.YMin - y) < 1e-6
                and abs(e.BoundBox.YMax - y) < 1e-6]
         assert sum(e.Length for e in rim) == pytest.approx(cut, rel=1e-6)
+
+
+@pytest.mark.parametrize("at", [-14.0, 12.0])
+def test_plane_beyond_the_material_inside_a_loose_box_is_refused(monkeypatch, at):
+    """OCCT's BoundBox of a file's solid can be far larger than the solid (occt_screw.step:
+    y from -34 to 32 for a part from -10.8 to 9.2). A plane between the material and the
+    box's side passed the crossing test: Stretch gave the Base unchanged, VolumeChange 0,
+    up to date, where a plane that misses the part must be refused naming Plane. The box
+    is made loose here as the file's is, by what brep.extent reads."""
+    from freecad_deform.geometry.errors import DeformError
+    from freecad_deform.shapes import brep
+    solid = Part.makeBox(20, 20, 20, V(-10, -10, -10))
+    loose = App.BoundBox(-10, -34, -10, 10, 32, 10)
+    monkeypatch.setattr(brep, "bound_box", lambda shape: loose)
+    y = np.array([0.0, 1.0, 0.0])
+    with pytest.raises(DeformError) as refused:
+        stretch.solid(solid, np.array([0.0, at, 0.0]), y, 6.0)
+    assert refused.value.prop == "Plane"
+    result, report = stretch.solid(solid, np.array([0.0, 9.0, 0.0]), y, 6.0)  # crosses
+    assert result.Volume == pytest.approx(8000.0 + 400.0 * 6.0, rel=1e-9)

@@ -8,6 +8,7 @@ from ..geometry.errors import DeformError
 from ..geometry.sweep import continuity
 from ..geometry.sweep import motion as mo
 from ..geometry.sweep import planes as pl
+from ..geometry.sweep.defaults import extents as box_extents
 from ..shapes import brep
 
 
@@ -16,9 +17,34 @@ def check_crossing(parts, origin, normal, gap=None):
     or only touches it is bad input for Plane or Plane2."""
     lo = min(brep.extent(s, origin, normal)[0] for s in parts)
     hi = max(brep.extent(s, origin, normal)[1] for s in parts)
+    _check_extent(lo, hi, gap)
+    try:
+        _check_extent(*_vertex_extent(parts, origin, normal), gap)
+    except DeformError:
+        # OCCT's BoundBox of a file's solid can be loose (bounded by the poles: 3 times
+        # occt_screw.step's width), and a plane that misses the material passes it; the
+        # vertices lie on the part, so they settle most planes, the geometry's own box
+        # (0.1 to 1 s on a big part) the rest, near the part's ends
+        boxes = [s.optimalBoundingBox(False) for s in parts]
+        rows = np.array([(b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax) for b in boxes])
+        ends = box_extents(rows[:, :3], rows[:, 3:], origin, normal)
+        _check_extent(float(ends[0].min()), float(ends[1].max()), gap)
+
+
+def _check_extent(lo, hi, gap):
+    """The planes cross a part reaching from lo to hi beyond Plane."""
     pl.check_crossing([lo, hi], "Plane", brep.TOL)
     if gap is not None:
         pl.check_crossing([lo - gap, hi - gap], "Plane2", 0.0, where=None)
+
+
+def _vertex_extent(parts, origin, normal):
+    """(min, max) signed distance of the parts' vertices to the plane: within the part's."""
+    pts = np.array([tuple(v.Point) for s in parts for v in s.Vertexes], float).reshape(-1, 3)
+    if not len(pts):
+        return 0.0, 0.0
+    d = (pts - origin) @ normal
+    return float(d.min()), float(d.max())
 
 
 def deform_shape(shape, origin, normal, gap, solid_fn, loose_fn):
