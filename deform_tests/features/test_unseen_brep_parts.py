@@ -159,3 +159,35 @@ def test_plane_beyond_the_material_inside_a_loose_box_is_refused(monkeypatch, at
     assert refused.value.prop == "Plane"
     result, report = stretch.solid(solid, np.array([0.0, 9.0, 0.0]), y, 6.0)  # crosses
     assert result.Volume == pytest.approx(8000.0 + 400.0 * 6.0, rel=1e-9)
+
+
+@pytest.mark.parametrize("kind", ["solid", "compound"])
+def test_push_on_a_placed_base_stays_in_place(kind):
+    """A Base whose shape has a Placement (OCCT's Pump_TopCover.brep: a compound placed at
+    (81.3, 447.2, 0), turned 90 deg; any Part feature moved by the user): DirectPush
+    replaces one face and keeps the rest with the Base's Placement, and FreeCAD then gave
+    the feature's Shape the object's own Placement (identity): the part jumped to its local
+    frame, 85 mm from the target, up to date."""
+    import freecad_deform as fd
+    box = Part.makeBox(10, 10, 10)
+    shape = box if kind == "solid" else Part.makeCompound([box])
+    shape.Placement = App.Placement(V(100, 0, 0), App.Rotation(V(0, 0, 1), 90))
+    doc = fc.new_document("UnseenPlaced")
+    try:
+        base = doc.addObject("Part::Feature", "Base")
+        base.Shape = shape
+        point = shape.Faces[5].CenterOfMass        # the top, z = 10, at (95, 5)
+        target = point + V(0, 0, 3)
+        obj = fd.make_direct_push(base, "Face6", point, target)
+        assert "Invalid" not in obj.State, obj.getStatusString()
+        result = obj.Shape
+        assert result.isValid()
+        assert result.distToShape(Part.Vertex(target))[0] < 1e-9
+        bb = result.BoundBox
+        assert (bb.XMin, bb.XMax, bb.YMin, bb.YMax, bb.ZMin) == pytest.approx(
+            (90, 100, 0, 10, 0), abs=1e-9)
+        # the bottom stays where the Base has it
+        assert any(abs(f.CenterOfMass.z) < 1e-9 and abs(f.CenterOfMass.x - 95) < 1e-9
+                   for f in result.Faces)
+    finally:
+        App.closeDocument(doc.Name)

@@ -229,9 +229,25 @@ class DeformFeature(Stateless):
                               f"{KIND_WORDS[was]}, or make a new {self.TYPE} on "
                               f"{obj.Base.Label}.", "Base")
         result, outputs = self.compute(obj, kind)
+        if kind == "Part":
+            result = placed_in_geometry(result)
         setattr(obj, {"Part": "Shape", "Mesh": "Mesh", "Points": "Points"}[kind], result)
         for name, value in outputs.items():
             setattr(obj, name, value)
 
     def compute(self, obj, base_kind):
         raise NotImplementedError
+
+
+def placed_in_geometry(shape):
+    """`shape` with its Placement moved into its geometry. A result that keeps the Base's
+    own Placement (a face pushed or constrained in place, the rest of the Base kept)
+    would lose it: FreeCAD gives a feature's Shape the object's Placement (identity)
+    after execute, and the part jumped to its local frame (OCCT's Pump_TopCover.brep)."""
+    placement = shape.Placement
+    if placement.isIdentity():
+        return shape
+    baked = shape.copy()
+    baked.Placement = type(placement)()
+    baked.transformShape(placement.toMatrix(), True)
+    return baked
