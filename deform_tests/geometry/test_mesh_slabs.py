@@ -2,6 +2,9 @@
 FreeCAD, against oracles written for the tests (deform_tests/oracles/mesh.py): the number of
 pieces a triangle crossing k planes must give, half-edge counts, the input's sections (edge
 crossings) turned by scipy, and the divergence-theorem volume."""
+import os
+import signal
+
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -15,6 +18,7 @@ from ..oracles.mesh import assert_closed_manifold, blob, volume
 from ..oracles.mesh import distance_to_segments, expected_count, section_segments
 
 BLOB = blob(300)
+BIG = blob(140000, seed=3)         # over 8 blocks of vertices: cut on two threads
 
 
 def twisted(V0, T0, origin, n, gap, angle, samples, centre=None):
@@ -193,7 +197,7 @@ def test_a_mesh_of_many_blocks_is_cut_on_every_core_as_on_one(monkeypatch):
     closed 2-manifold with the oracle's piece count and the input's volume to the
     flat-facet bound of the test above."""
     from freecad_deform.geometry import blocks
-    V0, T0 = blob(140000, seed=3)
+    V0, T0 = BIG
     assert len(V0) > 8 * blocks.BLOCK
     n = np.array([0.2, -0.3, 1.0])
     n /= np.linalg.norm(n)
@@ -311,3 +315,81 @@ def test_coarse_box_twisted_keeps_its_volume_to_the_sag_of_its_facets(levels, st
     assert_closed_manifold(V, T)
     sag = 80 * gap * 10 * np.sqrt(2) * (angle / samples) ** 2 / 8
     assert abs(volume(V, T) - volume(V0, T0)) <= sag
+
+
+
+def big_twist(V0, T0):
+    n = np.array([0.2, -0.3, 1.0])
+    n /= np.linalg.norm(n)
+    return twisted(V0, T0, -0.5 * n, n, 1.2, 2.0, 16)
+
+
+def test_int32_triangles_cut_as_int64_ones(monkeypatch):
+    """slab_cut numbers edges by keys up to N^2, which int32 triangles overflowed (a mesh
+    with 4x the vertices, open, no error): it takes them as int64."""
+    from freecad_deform.geometry import blocks
+    from freecad_deform.geometry.mesh.sweep import slab_cut, twist_motion as tm
+    monkeypatch.setattr(blocks, "_workers", lambda: 2)
+    V0, T0 = BIG
+    n = np.array([0.0, 0.0, 1.0])
+    args = (V0, -0.5 * n, n, 1.2, 16, 1e-9, tm(-0.5 * n, n, 1.2, 2.0))
+    V, T = slab_cut(args[0], T0.astype(np.int32), *args[1:])
+    V1, T1 = slab_cut(args[0], T0.astype(np.int64), *args[1:])
+    np.testing.assert_array_equal(V, V1)
+    np.testing.assert_array_equal(T, T1)
+    assert_closed_manifold(V, T, min_area=0.0)
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="os.fork is POSIX")
+def test_a_forked_child_cuts_a_large_mesh(monkeypatch):
+    """After a cut on two threads, a child made by os.fork (multiprocessing's default on
+    Linux before Python 3.14) has the thread pool but none of its threads: its cut waited
+    for ever. The child cuts within 60 s and gets the parent's result."""
+    from freecad_deform.geometry import blocks
+    monkeypatch.setattr(blocks, "_workers", lambda: 2)
+    V0, T0 = BIG
+    V, T = big_twist(V0, T0)
+    pid = os.fork()
+    if pid == 0:                              # the child: exit 0 when its cut is the same
+        signal.alarm(60)
+        try:
+            Vc, Tc = big_twist(V0, T0)
+            os._exit(0 if np.array_equal(Vc, V) and np.array_equal(Tc, T) else 1)
+        finally:
+            os._exit(2)
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0, status
+
+
+def test_worker_threads_run_under_the_callers_error_state(monkeypatch):
+    """Under np.errstate(over="raise"), a vertex whose distance overflows raised in the
+    range the caller's thread cut and only warned in a worker's: now it raises in both."""
+    from freecad_deform.geometry import blocks
+    monkeypatch.setattr(blocks, "_workers", lambda: 2)
+    V0, T0 = BIG
+    for row in (10, len(V0) - 10):            # in the worker's range, in the caller's
+        V = V0 * 1e300
+        V[row] = [1.7e308, 1.7e308, 1.7e308]
+        n = np.array([0.6, 0.0, 0.8])
+        with np.errstate(over="raise"), pytest.raises(FloatingPointError):
+            twisted(V, T0, np.zeros(3), n, 1e300, 1.0, 4)
+
+
+def test_an_error_in_one_range_waits_for_the_others(monkeypatch):
+    """in_parallel raises the caller's range's error only once the worker's range has
+    ended, so no worker is left running into the next call."""
+    import time
+    from freecad_deform.geometry import blocks
+    monkeypatch.setattr(blocks, "_workers", lambda: 2)
+    ended = []
+
+    def fn(start, stop):
+        if start == 0:                        # the worker's range, slow
+            time.sleep(0.3)
+            ended.append(start)
+            return start
+        raise ValueError("the caller's range")
+
+    with pytest.raises(ValueError):
+        blocks.in_parallel(fn, 8 * blocks.BLOCK)
+    assert ended == [0]

@@ -2,7 +2,8 @@
 time, so the temporaries of a block stay in the CPU cache (about twice as fast as
 whole-array passes on a million rows)."""
 import os
-from concurrent.futures import ThreadPoolExecutor
+import threading
+from concurrent.futures import ThreadPoolExecutor, wait
 
 import numpy as np
 
@@ -44,20 +45,41 @@ def _workers():
 
 
 _pool = []
+_pool_lock = threading.Lock()
+if hasattr(os, "register_at_fork"):           # a forked child has the pool but no threads
+    os.register_at_fork(after_in_child=_pool.clear)
 
 
 def in_parallel(fn, n):
     """fn(start, stop) over [0, n) split at BLOCK boundaries into one range per core, the
     last in this thread and the others in worker threads; returns the results in order.
     numpy releases the GIL inside its loops, so a blocked pass of many numpy calls runs on
-    all cores (1.5 to 1.8x on two); ranges under 4 blocks are not split. fn sees numpy's
-    default error state in a worker (np.errstate is per thread)."""
+    all cores (1.5 to 1.8x on two); ranges under 4 blocks are not split, nor is a call made
+    from a worker (it would wait for itself). A worker runs under the caller's numpy error
+    state (np.errstate is per thread); an error in any range is raised once every range
+    has ended."""
     k = min(_workers(), max(1, n // (4 * BLOCK)))
-    if k == 1:
+    if k == 1 or threading.current_thread().name.startswith("freecad_deform"):
         return [fn(0, n)]
-    if not _pool:
-        _pool.append(ThreadPoolExecutor(_workers() - 1, thread_name_prefix="freecad_deform"))
+    with _pool_lock:
+        if not _pool:
+            _pool.append(ThreadPoolExecutor(_workers() - 1,
+                                            thread_name_prefix="freecad_deform"))
+    state = np.geterr()
+
+    def run(start, stop):
+        if state == _DEFAULT_ERR:             # (np.errstate costs every ufunc call 4 us)
+            return fn(start, stop)
+        with np.errstate(**state):
+            return fn(start, stop)
+
     bounds = [BLOCK * round(n * i / k / BLOCK) for i in range(k)] + [n]
-    futures = [_pool[0].submit(fn, bounds[i], bounds[i + 1]) for i in range(k - 1)]
-    last = fn(bounds[-2], n)
+    futures = [_pool[0].submit(run, bounds[i], bounds[i + 1]) for i in range(k - 1)]
+    try:
+        last = fn(bounds[-2], n)
+    finally:
+        wait(futures)
     return [f.result() for f in futures] + [last]
+
+
+_DEFAULT_ERR = {"divide": "warn", "over": "warn", "under": "ignore", "invalid": "warn"}

@@ -227,12 +227,13 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     side of the twisted surface, and a coarse mesh then gained up to 7e-3 of A x gap in
     volume. The cost is linear in the output (no
     triangle is cut twice). Original vertices keep their indices, new ones are appended;
-    orientation is kept; a triangle crossing no plane keeps its row, a cut one's row holds
-    one of its pieces and the others follow the input's rows.
+    orientation is kept; a triangle crossing no plane keeps its row, the rows of the cut
+    ones hold pieces (of any cut triangle) and the other pieces follow the input's rows.
     Each block of vertices is moved while it is in the cache, right after it is classified:
     the cut points are made from the input's vertices (snapped), then moved.
     Large rows are gathered with take: fancy or boolean indexing of rows is 3 to 10x slower.
     """
+    V, T = arrays(V, T, copy=False)           # (int64 triangles: edge keys are N^2)
     N = len(V)
     if not N:
         raise DeformError("The Base mesh has no vertices; give Base a mesh with triangles.",
