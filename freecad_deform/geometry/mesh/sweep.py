@@ -287,7 +287,9 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
                     move_by_fraction(w, f, motion_of_s, in_place=True)
         return lo, hi
 
-    lo, hi = np.array(in_parallel(vertex_pass, N)).T
+    # (a motion of the caller's own, not one of ours, is called from this thread alone)
+    lo, hi = np.array(in_parallel(vertex_pass, N) if shifts or motion_of_s is None
+                      else [vertex_pass(0, N)]).T
     ends = np.array([lo.min(), hi.max()])
     check_crossing(ends, "Plane", eps, touching=True)
     check_crossing(ends - gap, "Plane2", eps, touching=True)
