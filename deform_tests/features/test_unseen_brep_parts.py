@@ -191,3 +191,26 @@ def test_push_on_a_placed_base_stays_in_place(kind):
                    for f in result.Faces)
     finally:
         App.closeDocument(doc.Name)
+
+
+def test_a_face_in_a_hole_is_not_cut_by_the_pushed_face():
+    """The self-intersection check of DirectPush sections the moved region of the pushed
+    face's surface with the faces near it; that region's rectangle reaches past a
+    trimmed face's boundary (OCCT's CrankArm: a cone face of 11 edges), where another face
+    may cross the surface without touching the face. Every push of that cone was refused
+    ('can go about 0 mm'), after 2 minutes of bisection."""
+    from freecad_deform.shapes import bspline
+
+    def square(half, z=0.0):
+        return Part.makePolygon([V(-half, -half, z), V(half, -half, z), V(half, half, z),
+                                 V(-half, half, z), V(-half, -half, z)])
+
+    holed = Part.makeFace([square(10.0), square(3.0)], "Part::FaceMakerBullseye")
+    inside = Part.Face(Part.makePolygon([V(0, -1, -1), V(0, 1, -1), V(0, 1, 1), V(0, -1, 1),
+                                         V(0, -1, -1)]))          # crosses z = 0 in the hole
+    shape = Part.makeCompound([holed, inside])
+    assert bspline.cuts_others(shape, 0, 1e-6, holed.ParameterRange) is False
+    through = Part.Face(Part.makePolygon([V(6, -1, -1), V(6, 1, -1), V(6, 1, 1), V(6, -1, 1),
+                                          V(6, -1, -1)]))         # crosses the face itself
+    assert bspline.cuts_others(Part.makeCompound([holed, through]), 0, 1e-6,
+                               holed.ParameterRange) is True

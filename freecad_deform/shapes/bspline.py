@@ -666,4 +666,7 @@ def cuts_others(shape, index, tol, region=None):
     points = [v.Point for v in section.Vertexes]
     for e in section.Edges:
         points += e.discretize(5)
-    return any(border.distToShape(Part.Vertex(p))[0] > slack for p in points)
+    # the region's surface reaches past a trimmed face's boundary (a cone of 11 edges,
+    # OCCT's CrankArm): a point there is on no face of the result
+    return any(border.distToShape(Part.Vertex(p))[0] > slack and
+               face.distToShape(Part.Vertex(p))[0] <= slack for p in points)
