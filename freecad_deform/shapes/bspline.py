@@ -559,14 +559,14 @@ def _degree(geom):
     return getattr(geom, "Degree", None)
 
 
-def _largest_gap(face, edge, c2d, a, b, per_span):
+def _largest_gap(surface, edge, c2d, a, b, per_span):
     """The largest distance between the edge's 3D curve and its pcurve on the face at the
     same parameter. Where a B-spline is involved: samples in every piece where the gap is
     smooth (between the knots of the pcurve and of the 3D curve and the pcurve's crossings
     of the surface's knot lines: its peaks sit near them), the highest degree and two
     more (a degree-12 3D curve: 11 bumps), then a bounded search about the largest;
     `per_span` samples else (lines, conics, analytic surfaces: no spans, no bumps)."""
-    surface, curve = face.Surface, edge.Curve
+    curve = edge.Curve
 
     def gap(t):
         uv = c2d.value(t)
@@ -598,18 +598,37 @@ def pcurve_gaps(face, per_span=9, which=None):
     check (BOPAlgo_InvalidCurveOnSurface) and booleans fail. `which(edge)`: only those
     edges."""
     out = []
+    surface = None                            # (face.Surface: 0.4 ms on a face of 1000 edges)
     for edge in face.Edges:
         if edge.Degenerated or (which is not None and not which(edge)):
             continue
+        if surface is None:
+            surface = face.Surface
+            exact = _EXACT.get(type(surface).__name__)
         worst = 0.0
         for e in (edge, edge.reversed()) if edge.isSeam(face) else (edge,):
             found = face.curveOnSurface(e)
             if found is None:
                 worst = np.inf
                 break
-            worst = max(worst, _largest_gap(face, e, *found, per_span))
+            if not (exact and _exact(exact, edge, found[0])):
+                worst = max(worst, _largest_gap(surface, e, *found, per_span))
         out.append((edge, worst))
     return out
+
+
+_EXACT = {"Plane": (("Line", "Circle", "Ellipse"), ("Line2d", "Circle2d", "Ellipse2d")),
+          "Cylinder": (("Line", "Circle"), ("Line2d",))}
+
+
+def _exact(kinds, edge, pcurve):
+    """Whether the pcurve is the 3D curve itself, for `kinds` = _EXACT[the surface's
+    type]: a 2D line or conic on a plane for a 3D line or conic, a 2D line on a cylinder
+    for a generatrix or a circle about its axis (OCCT writes both from one exact
+    intersection: no gap to measure)."""
+    curve = type(edge.Curve).__name__.replace("Segment", "").replace("ArcOf", "")
+    flat = type(pcurve).__name__.replace("Segment", "").replace("ArcOf", "")
+    return curve in kinds[0] and flat in kinds[1]
 
 
 def settle_tolerances(face):
