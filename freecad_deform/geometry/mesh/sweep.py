@@ -225,8 +225,8 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     its pieces directly: _one_plane). Measured in the input, the split does not depend on
     the motion: in the moved mesh a twisted quadrilateral's shorter diagonal lies on one
     side of the twisted surface, and a coarse mesh then gained up to 7e-3 of A x gap in
-    volume. The cost is linear in the output (no
-    triangle is cut twice). Original vertices keep their indices, new ones are appended;
+    volume. The cost is linear in the output (no triangle is cut twice). Original vertices
+    keep their indices, new ones are appended;
     orientation is kept; a triangle crossing no plane keeps its row, the rows of the cut
     ones hold pieces (of any cut triangle) and the other pieces follow the input's rows.
     Each block of vertices is moved while it is in the cache, right after it is classified:
@@ -332,9 +332,9 @@ def _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps, motion_of_s):
     """slab_cut's cut of the triangles `maybe` (those with corners in different cells):
     the cut points, moved, written to W after its N vertices (W grown when it has no room
     for them), and the pieces. Returns (W, pieces or None when no triangle crosses a plane,
-    the rows of T that were cut). In steps of their own, so that each step's temporaries
-    are freed when it ends: a lower peak, and the result then finds room in the heap where
-    they were (no fresh pages for the allocator to fault in again at the next call)."""
+    the rows of T that were cut). In steps of their own (_crossed, _cut_points, _pieces),
+    each step's temporaries freed when it ends (this did not spare the benchmark's
+    process its page faults: see benchmarks/README.md, stop 16)."""
     N = len(V)
     rows, a, b, c, odd, ub, uc, planes = _crossed(T, u, maybe, samples)
     if not len(rows):
@@ -353,21 +353,36 @@ def _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps, motion_of_s):
         return at
 
     new = without_flat(_pieces(place, point, a, b, c, ub, uc, odd, planes, e))
-    return W, _without_fins(new, N + merged) if len(merged) else new, rows
+    return W, _without_fins(new, N + merged, len(W)) if len(merged) else new, rows
 
 
-def _without_fins(new, merged):
+def _without_fins(new, merged, size):
     """The pieces without the pairs that are one triangle both ways round. Where every
     cut point about a vertex near a plane merged into one (a spike, or a tolerance near
     half the spacing of the planes), the pieces on either side of that vertex's edges
     can come out as the same three corners in opposite orders: a fin of no volume whose
-    edges four pieces would share. Only the pieces at a merged point (`merged`) can be."""
-    at = np.flatnonzero(np.isin(new, merged).any(axis=1))
+    edges four pieces would share. Only the pieces at a merged point (`merged`, of `size`
+    vertices) can be, and of those only the ones whose corners another has too (numbered
+    by _numbered) are paired, in a Python loop."""
+    mark = np.zeros(size, bool)
+    mark[merged] = True
+    touched = mark.take(new)
+    at = np.flatnonzero(touched[:, 0] | touched[:, 1] | touched[:, 2])
     if not len(at):
         return new
-    key = np.sort(new.take(at, axis=0), axis=1)
-    first = np.argmin(new.take(at, axis=0), axis=1)
-    turned = np.take_along_axis(new.take(at, axis=0), (first[:, None] + np.arange(3)) % 3, 1)
+    tri = new.take(at, axis=0)
+    key = np.sort(tri, axis=1)
+    bits = max(int(size - 1).bit_length(), 1)
+    if 3 * bits <= 63:
+        _, group = _numbered((key[:, 0] << (2 * bits)) | (key[:, 1] << bits) | key[:, 2])
+    else:
+        group = np.unique(key, axis=0, return_inverse=True)[1].reshape(-1)
+    twice = np.flatnonzero(np.bincount(group).take(group) > 1)
+    if not len(twice):
+        return new
+    at, tri, key = at.take(twice), tri.take(twice, axis=0), key.take(twice, axis=0)
+    first = np.argmin(tri, axis=1)
+    turned = np.take_along_axis(tri, (first[:, None] + np.arange(3)) % 3, 1)
     ascending = turned[:, 1] < turned[:, 2]   # the orientation, against the sorted corners
     seen, fins = {}, []
     for row, corners, up in zip(at.tolist(), map(tuple, key.tolist()), ascending.tolist()):
@@ -399,10 +414,9 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
     """One new vertex per (edge, plane) for the edges that cross one (keyed by their sorted
     vertex indices), those joined by a section segment shorter than eps merged, moved by
     the motion at their plane's fraction. Returns (the points (K, 3), the same not moved,
-    point(e, plane): the
-    vertex of edge e's point on that plane (N + its row), the edge numbers (e_ab, e_bc,
-    e_ac) of the triangles, -1 where an edge crosses none, the rows of the points that
-    several were merged into)."""
+    point(e, plane): the vertex of edge e's point on that plane (N + its row), the edge
+    numbers (e_ab, e_bc, e_ac) of the triangles, -1 where an edge crosses none, the rows
+    of the points that several were merged into)."""
     f_ab, n_ab, f_bc, n_bc, f_ac, n_ac = planes
     N = len(V)
     lo = np.concatenate([a, b, a])
