@@ -274,9 +274,12 @@ def points_from_array(array):
 
     import Points
     array = np.asarray(array, float).reshape(-1, 3)
-    finite = array[np.isfinite(array).all(axis=1)]
-    origin = storage_origin(finite)
-    pts = np.ascontiguousarray(array - origin, dtype="<f4")
+    bounds = _bounds(array) if len(array) else None
+    if bounds is not None and np.isfinite(bounds).all():    # (no point to leave out: no copy)
+        origin = _origin(*bounds)
+    else:
+        origin = storage_origin(array[np.isfinite(array).all(axis=1)])
+    pts = np.ascontiguousarray(array - origin if origin.any() else array, dtype="<f4")
     buffer = io.BytesIO()
     with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED) as archive:
         archive.writestr("Persistence.xml", '<Content>\n<Points file="points" mtrx="1 0 0 0 '
