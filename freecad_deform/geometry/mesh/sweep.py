@@ -18,6 +18,9 @@ from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, trans
 from ..sweep.planes import check_crossing, signed_distance, unit_as_given, unit_normal
 from ..vectors import skew, unit
 
+PASS_ROWS = 4 * BLOCK   # slab_cut's vertex pass: some 40 numpy calls a block, bound by their
+                        # overhead more than by the cache (1.4x faster than BLOCK rows)
+
 
 def _check_samples(samples):
     if isinstance(samples, bool) or not float(samples).is_integer() or samples < 1:
@@ -242,8 +245,8 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     if not (np.isfinite(o).all() and np.isfinite(ns).all()):
         raise DeformError("Plane's position or normal is not a finite number (NaN or "
                           "infinity); set Plane to finite numbers.", "Plane")
-    levels = _Levels(o, ns, gap, samples, eps)
-    # per vertex, BLOCK at a time (in the cache), in one pass: its level u and cell between
+    levels = _Levels(o, ns, gap, samples, eps, min(N, PASS_ROWS))
+    # per vertex, PASS_ROWS at a time (in the cache), in one pass: its level u and cell between
     # planes (snapped within eps of a plane), its fraction and its moved place; W gets room
     # for the cut points too (grown below when a cut makes more). A vertex that is not
     # finite makes a level that is not (refused before its cell is cast), unless it is in a
@@ -259,9 +262,9 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
 
     def vertex_pass(start, stop):             # -> (lowest, highest s) of its vertices
         lo, hi = np.inf, -np.inf
-        fraction = np.empty(min(BLOCK, stop - start))
-        for i in range(start, stop, BLOCK):
-            v = V[i:min(i + BLOCK, stop)]
+        fraction = np.empty(min(PASS_ROWS, stop - start))
+        for i in range(start, stop, PASS_ROWS):
+            v = V[i:min(i + PASS_ROWS, stop)]
             end = i + len(v)
             s, on, d = levels(v, u[i:end])
             low, high = float(s.min()), float(s.max())
@@ -346,13 +349,7 @@ def _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps, motion_of_s):
     W[N:] = P
     del P
 
-    def place(k):                         # the vertices k where the input has them
-        at = V.take(np.minimum(k, N - 1), axis=0)
-        cut = np.flatnonzero(k >= N)
-        at[cut] = unmoved.take(k.take(cut) - N, axis=0)
-        return at
-
-    new = without_flat(_pieces(place, point, a, b, c, ub, uc, odd, planes, e))
+    new = without_flat(_pieces(_Input(V, unmoved), point, a, b, c, ub, uc, odd, planes, e))
     return W, _without_fins(new, N + merged, len(W)) if len(merged) else new, rows
 
 
@@ -396,18 +393,20 @@ def _without_fins(new, merged, size):
 
 def _crossed(T, u, maybe, samples):
     """The rows of the triangles `maybe` that cross a plane, their corners sorted by level
-    (a, b, c, odd: see _sorted_corners), the levels ub, uc, and the planes (first, count)
-    each edge a -> b, b -> c, a -> c crosses (see _planes_between)."""
+    (a, b, c, odd: see _sorted), the levels ub, uc, and the planes (first, count) each edge
+    a -> b, b -> c, a -> c crosses (see _planes_between)."""
     Tm = T.take(maybe, axis=0)
-    u0, u1, u2 = u.take(Tm).T
-    f_ac, n_ac = _planes_between(np.minimum(np.minimum(u0, u1), u2),
-                                 np.maximum(np.maximum(u0, u1), u2), samples)
+    U = u.take(Tm)
+    order, odd = _sorted(U)
+    S = U.reshape(-1).take(order)             # the levels sorted
+    f_ac, n_ac = _planes_between(S[:, 0], S[:, 2], samples)
     hit = np.flatnonzero(n_ac)
-    a, b, c, odd, ua, ub, uc = _sorted_corners(Tm.take(hit, axis=0), u0.take(hit),
-                                               u1.take(hit), u2.take(hit))
+    order = order.take(hit, axis=0)
+    a, b, c = (Tm.reshape(-1).take(order[:, k]) for k in range(3))
+    ua, ub, uc = (S[:, k].take(hit) for k in range(3))
     planes = (*_planes_between(ua, ub, samples), *_planes_between(ub, uc, samples),
               f_ac.take(hit), n_ac.take(hit))
-    return maybe.take(hit), a, b, c, odd, ub, uc, planes
+    return maybe.take(hit), a, b, c, odd.take(hit), ub, uc, planes
 
 
 def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_of_s):
@@ -423,17 +422,14 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
     hi = np.concatenate([b, c, c])
     crossing = np.flatnonzero(np.concatenate([n_ab, n_bc, n_ac]))
     lo, hi = lo.take(crossing), hi.take(crossing)
-    keys, inv = _numbered(np.minimum(lo, hi) * N + np.maximum(lo, hi))
-    del lo, hi
+    at, inv = _numbered(np.minimum(lo, hi) * N + np.maximum(lo, hi))
     e_of = np.full(3 * len(a), -1)
     e_of[crossing] = inv.reshape(-1)
     e_ab, e_bc, e_ac = np.split(e_of, 3)
-    # each edge from its lower level to its higher: its ends' levels and (snapped) places
-    (sp, up, Wp), (sq, uq, Wq) = levels.placed(V.take(keys // N, axis=0)), levels.placed(
-        V.take(keys % N, axis=0))
-    swap = np.flatnonzero(uq < up)
-    for x, y in ((sp, sq), (up, uq), (Wp, Wq)):
-        x[swap], y[swap] = y.take(swap, axis=0), x.take(swap, axis=0)
+    # each edge from its lower level to its higher (lo -> hi: a crossing edge's levels
+    # differ): its ends' levels and (snapped) places
+    (sp, up, Wp), (sq, uq, Wq) = (levels.placed(V.take(x.take(at), axis=0)) for x in (lo, hi))
+    del lo, hi
     e_first, e_count = _planes_between(up, uq, samples)
     e_start = np.cumsum(e_count) - e_count
     edge, k = _ranges(e_count)
@@ -446,7 +442,7 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
     P -= Wp
     P *= (dp / (dp - dq))[:, None]
     P += Wp
-    P -= ((P - o) @ n - level)[:, None] * n
+    levels.onto(P, level)
     del Wp, Wq, dp, dq
 
     def raw(e, jj):                       # index in P of edge e's point on plane jj
@@ -474,16 +470,13 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
 
 
 def _pieces(place, point, a, b, c, ub, uc, odd, planes, e):
-    """The pieces of the cut triangles, each triangle's in turn: most cross one plane, and
-    theirs are written directly (_one_plane); the others' by zipping their two chains
+    """The pieces of the cut triangles: those of the triangles crossing one plane (most),
+    written directly (_one_plane), then the others', by zipping their two chains
     (_zipped)."""
     f_ab, n_ab, f_bc, n_bc, f_ac, n_ac = planes
     e_ab, e_bc, e_ac = e
     one = n_ac == 1
     t1, tz = np.flatnonzero(one), np.flatnonzero(~one)
-    count = np.where(one, 3, n_ab + n_bc + n_ac + 3)
-    offset = np.cumsum(count) - count
-    new = np.empty((int(count.sum()), 3), np.int64)
     j = f_ac.take(t1)
     lower = n_bc.take(t1) == 1                # b below the plane: its short point on b -> c
     q = b.take(t1)                            # else on a -> b, or b itself when on the plane
@@ -491,15 +484,13 @@ def _pieces(place, point, a, b, c, ub, uc, odd, planes, e):
     bc = np.flatnonzero(lower)
     q[ab] = point(e_ab.take(t1.take(ab)), j.take(ab))
     q[bc] = point(e_bc.take(t1.take(bc)), j.take(bc))
-    new.reshape(-1)[((3 * offset.take(t1))[:, None] + np.arange(9)).reshape(-1)] = _one_plane(
-        place, a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j), lower,
-        odd.take(t1)).reshape(-1)             # flat: 1-D scatters are faster
-    if len(tz):
-        owner, i = _ranges(count.take(tz))
-        new[offset.take(tz).take(owner) + i] = _zipped(
-            place, point, *(x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc,
-                                              f_ac, n_ac, e_ab, e_bc, e_ac)))
-    return new
+    new = _one_plane(place, a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j),
+                     lower, odd.take(t1))
+    if not len(tz):
+        return new
+    return np.concatenate([new, _zipped(place, point, *(
+        x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab,
+                             e_bc, e_ac)))])
 
 
 class _Levels:
@@ -509,23 +500,18 @@ class _Levels:
     column by column, so a point gets the same numbers in a block of the vertex pass and
     among the few vertices looked at again (a matrix product need not)."""
 
-    def __init__(self, o, n, gap, samples, eps):
+    def __init__(self, o, n, gap, samples, eps, rows):
         self.o, self.n, self.gap, self.samples, self.eps = o, n, gap, samples, eps
         self.h = gap / samples
         self.terms = [k for k in range(3) if n[k] != 0]     # (a zero term adds nothing)
         self.blind = len(self.terms) < 3      # s does not see every coordinate
-        self.range = np.full(BLOCK, -1.0), np.full(BLOCK, samples + 1.0)   # of u
-        self.unit = np.zeros(BLOCK), np.ones(BLOCK)
+        self.range = np.full(rows, -1.0), np.full(rows, samples + 1.0)   # of u, for
+        self.unit = np.zeros(rows), np.ones(rows)         # blocks of up to `rows` rows
 
     def __call__(self, v, u):
         """(s, on, d) of the rows v (k, 3), their levels written to u (k,): on the snapped
         rows (None when none) and d how far each was from its plane."""
-        s = None
-        for k in self.terms:
-            t = v[:, k] - self.o[k]
-            if self.n[k] != 1:
-                t *= self.n[k]
-            s = t if s is None else np.add(s, t, out=s)
+        s = self.signed(v)
         np.divide(s, self.h, out=u)
         j = np.rint(u)
         near = np.abs(np.subtract(u, j, out=j)) <= self.eps / self.h
@@ -544,6 +530,23 @@ class _Levels:
         _clip(u, self.range)
         return s, on, d
 
+    def signed(self, v):
+        """The signed distances s of the rows v (k, 3)."""
+        s = None
+        for k in self.terms:
+            t = v[:, k] - self.o[k]
+            if self.n[k] != 1:
+                t *= self.n[k]
+            s = t if s is None else np.add(s, t, out=s)
+        return s
+
+    def onto(self, P, s):
+        """The rows P (k, 3) moved along the normal to the signed distances s, in place."""
+        d = self.signed(P)
+        d -= s
+        for k in self.terms:
+            P[:, k] -= d if self.n[k] == 1 else d * self.n[k]
+
     def placed(self, v):
         """(s, u, the rows v snapped onto their planes) for rows v (k, 3) taken from V."""
         u = np.empty(len(v))
@@ -554,7 +557,7 @@ class _Levels:
 
 
 def _clip(x, bounds):
-    """np.clip(x, lo, hi, out=x) for bounds (lo, hi), two arrays of BLOCK copies: maximum
+    """np.clip(x, lo, hi, out=x) for bounds (lo, hi), two arrays of copies: maximum
     and minimum against arrays are about 2.5x faster on numpy 1.24 (np.clip, and a scalar
     bound, take slower loops)."""
     low, high = bounds
@@ -647,9 +650,14 @@ def _one_plane(place, a, b, c, q, p, lower, odd):
     shorter diagonal in the input (place: a-q or b-p below, p-b or q-c above); reversed
     where `odd`. The
     corners come from a table of the 8 cases (_ONE_PLANE), in one gather."""
-    d1 = _length(place, np.where(lower, a, p), np.where(lower, q, b))
-    d2 = _length(place, np.where(lower, b, q), np.where(lower, p, c))
-    case = (lower.view(np.int8) * 4 + (d1 < d2).view(np.int8) * 2 + odd.view(np.int8))
+    V = place.V
+    A, B, C, P = V.take(a, axis=0), V.take(b, axis=0), V.take(c, axis=0), place.cut(p)
+    Q = place.cut(np.maximum(q, place.N))     # (q is b itself where b is on the plane)
+    on = np.flatnonzero(q < place.N)
+    Q[on] = B.take(on, axis=0)
+    bp = _distance(P, B)                      # b-p is a diagonal below and above
+    first = np.where(lower, _distance(A, Q) < bp, bp < _distance(Q, C))
+    case = (lower.view(np.int8) * 4 + first.view(np.int8) * 2 + odd.view(np.int8))
     source = np.stack([a, b, c, p, q], axis=1)
     at = _ONE_PLANE.take(case, axis=0)
     at += (5 * np.arange(len(a)))[:, None]
@@ -675,22 +683,61 @@ def _one_plane_table():
 _ONE_PLANE = _one_plane_table()
 
 
-def _sorted_corners(Tr, u0, u1, u2):
-    """Each triangle's corners (a, b, c) sorted by level, ties kept in corner order,
-    whether that order reverses the triangle's orientation (an odd permutation), and their
-    levels (ua, ub, uc): from each corner's rank, a few comparisons on columns."""
-    r0 = (u1 < u0).view(np.int8) + (u2 < u0)
-    r1 = (u0 <= u1).view(np.int8) + (u2 < u1)
-    i0, i1, i2 = (np.ascontiguousarray(col) for col in Tr.T)
-    corner = [np.where(r0 == k, i0, np.where(r1 == k, i1, i2)) for k in range(3)]
-    level = [np.where(r0 == k, u0, np.where(r1 == k, u1, u2)) for k in range(3)]
-    return (*corner, (r1 - r0) % 3 != 1, *level)
+def _sorted(U):
+    """For the rows U (k, 3) of corner levels: the flat indices into U of each row's
+    corners sorted by level, ties kept in corner order (k, 3), and whether that order
+    reverses the triangle's orientation (an odd permutation). From three comparisons, a
+    case 0..7, and a table of the cases (_SORTED, _ODD)."""
+    u0, u1, u2 = U.T
+    case = (u1 < u0).view(np.int8) + (u2 < u0).view(np.int8) * 2 + (u2 < u1).view(np.int8) * 4
+    order = _SORTED.take(case, axis=0)
+    order += (3 * np.arange(len(U)))[:, None]
+    return order, _ODD.take(case)
+
+
+def _sorted_table():
+    """_sorted's corner order and oddness by case (u1 < u0) + 2 (u2 < u0) + 4 (u2 < u1);
+    the two cases that cannot happen (the comparisons contradict) are given corner order."""
+    order, odd = np.tile(np.arange(3), (8, 1)), np.zeros(8, bool)
+    for case in range(8):
+        c10, c20, c21 = case & 1, case >> 1 & 1, case >> 2 & 1
+        rank = (c10 + c20, 1 - c10 + c21, 2 - c20 - c21)
+        if sorted(rank) == [0, 1, 2]:
+            order[case] = np.argsort(rank)
+            odd[case] = (rank[1] - rank[0]) % 3 != 1
+    return order, odd
+
+
+_SORTED, _ODD = _sorted_table()
+
+
+class _Input:
+    """Where the input has the vertices of the cut mesh, for the diagonals: V's N rows, then
+    the cut points before they moved."""
+
+    def __init__(self, V, unmoved):
+        self.V, self.unmoved, self.N = V, unmoved, len(V)
+
+    def __call__(self, k):
+        """The vertices k, of either kind."""
+        at = self.V.take(np.minimum(k, self.N - 1), axis=0)
+        cut = np.flatnonzero(k >= self.N)
+        at[cut] = self.unmoved.take(k.take(cut) - self.N, axis=0)
+        return at
+
+    def cut(self, k):
+        """The vertices k, all cut points."""
+        return self.unmoved.take(k - self.N, axis=0)
 
 
 def _length(place, i, j):
     """Distances between the vertices i and j, placed by place(indices) -> (k, 3)."""
-    d = place(i)
-    d -= place(j)
+    return _distance(place(i), place(j))
+
+
+def _distance(d, e):
+    """The distances between the rows of d and e (k, 3); d is overwritten."""
+    d -= e
     d *= d
     return np.sqrt(d[:, 0] + d[:, 1] + d[:, 2])     # (sum(axis=1) is slower on short rows)
 
@@ -723,9 +770,9 @@ def _merge_segments(P, segments, eps):
 
 
 def _numbered(keys):
-    """(the distinct keys, the number of each key among them): np.unique(keys,
-    return_inverse=True) without its sort, in the order the keys come. Non-negative int64
-    keys go through a table 4 to 8 times their count by a multiplicative hash, the last
+    """(an index of each distinct key, the number of each key among them), like
+    np.unique(keys, return_index=True, return_inverse=True) without its sort: the keys
+    numbered in the order of those indices. Non-negative int64 keys go through a table 4 to 8 times their count by a multiplicative hash, the last
     one written to a slot keeping it; the keys that find another key in their slot (about
     4 % of them) are numbered among themselves by np.unique. 5 to 7x faster than the
     sort on the edges of cut triangles."""
@@ -734,7 +781,7 @@ def _numbered(keys):
     slot = keys * np.int64(-7046029254386353131)        # (wraps: a hash)
     slot >>= np.int64(64 - bits)
     slot &= (1 << bits) - 1
-    table = np.empty(1 << bits, np.int64)
+    table = np.empty(1 << bits, np.int32 if m < 2 ** 31 else np.int64)
     table[slot] = np.arange(m)
     first = table.take(slot)                  # an index of the same key, one per key
     clash = np.flatnonzero(keys.take(first) != keys)
@@ -743,7 +790,7 @@ def _numbered(keys):
         first[clash] = clash.take(at).take(back.reshape(-1))
     own = first == np.arange(m)
     number = np.cumsum(own) - 1
-    return keys[own], number.take(first)
+    return np.flatnonzero(own), number.take(first)
 
 
 def _planes_between(lo, hi, samples):
