@@ -25,6 +25,7 @@ import ObjectsFem  # noqa: E402
 from feminout import importInpMesh  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
+from freecad_deform.geometry.errors import DeformError  # noqa: E402
 from ..oracles.fits import cylinder_fit_free as fit_cylinder, radial  # noqa: E402
 from ..oracles.mesh import tet_volumes as volumes_of  # noqa: E402
 
@@ -286,6 +287,22 @@ class TestRotor(FemDriveCase):
         self.doc.recompute()
         self.assertNotIn("Invalid", obj.State, obj.getStatusString())
         self.assertAlmostEqual(obj.Achieved, 19, delta=1e-9)
+
+    def test_other_features_refuse_it_naming_dimension_drive(self):
+        """Stretch and Twist take no FEM mesh: refused at make, naming Base and the one
+        feature that does; nothing is left in the document and the Base is unchanged."""
+        base = self.rotor()
+        before = nodes_of(base.FemMesh)[1].copy()
+        V = App.Vector
+        for make in (lambda: fd.make_stretch(base, (V(0, 0, 0), V(0, 0, 1)), 5.0),
+                     lambda: fd.make_twist(base, (V(0, 0, 0), V(0, 0, 1)),
+                                           (V(0, 0, 5), V(0, 0, 1)), 30.0, None)):
+            with self.assertRaises(DeformError) as caught:
+                make()
+            self.assertEqual(caught.exception.prop, "Base")
+            self.assertIn("only DimensionDrive", str(caught.exception))
+            self.assertEqual([o.Name for o in self.doc.Objects], [base.Name])
+        np.testing.assert_array_equal(nodes_of(base.FemMesh)[1], before)
 
     def test_save_and_reopen(self):
         base = self.rotor()

@@ -34,6 +34,10 @@ def base_kind(base):
         kind, empty = "Points", base.Points.CountPoints == 0
     elif hasattr(base, "Shape"):
         kind, empty = "Part", base.Shape.isNull()
+    elif base.isDerivedFrom("Fem::FemMeshObject"):
+        raise DeformError(f"Base {base.Label} is a FEM mesh, which only DimensionDrive "
+                          f"deforms; link a solid, a mesh or a point cloud, or make a "
+                          f"DimensionDrive on {base.Label}.", "Base")
     else:
         raise DeformError(f"Base {base.Label} is not a solid, a mesh or a point cloud; link "
                           f"one.", "Base")
