@@ -188,15 +188,42 @@ def split_sheet(pieces, origin, normal):
     return faces, edges, others
 
 
+def sew(faces, tol=None):
+    """A compound of `faces` (or shells) sewn (at `tol` where FreeCAD passes it on). OCCT's
+    sewing projects onto each surface over its whole parameter range; on a surface swept
+    along an unbounded hyperbola (or any unbounded curved one) that overflows ('Result of
+    Cosh exceeds the maximum value'): such faces are then converted to B-splines over their
+    own domain (exact: OCCT writes a conic as a rational B-spline) and all sewn again. A
+    second failure raises OCCT's error."""
+    args = () if tol is None else (tol,)
+    sewn = Part.makeCompound(faces)
+    try:
+        sewn.sewShape(*args)
+        return sewn
+    except Part.OCCError:
+        faces = [f for s in faces for f in s.Faces]
+        if not any(map(_unbounded, faces)):
+            raise
+    sewn = Part.makeCompound([f.toNurbs().Faces[0] if _unbounded(f) else f for f in faces])
+    sewn.sewShape(*args)
+    return sewn
+
+
+def _unbounded(face):
+    """The face lies on a surface with an infinite parameter range that is not a plane,
+    cylinder or cone (whose points grow linearly with it)."""
+    surface = face.Surface
+    return surface.TypeId not in ("Part::GeomPlane", "Part::GeomCylinder", "Part::GeomCone") \
+        and max(abs(b) for b in surface.bounds()) >= 1e99
+
+
 def sheets(pieces):
     """The face pieces sewn where they meet (a cut free face made whole again with the face
     swept across the gap), the other pieces as they are."""
     faces = [f for p in pieces if p.ShapeType in ("Face", "Shell") for f in p.Faces]
     if len(faces) < 2:
         return list(pieces)
-    sewn = Part.makeCompound(faces)
-    sewn.sewShape()
-    shells, free = shells_of(settled(sewn))
+    shells, free = shells_of(settled(sew(faces)))
     return shells + free + [p for p in pieces if p.ShapeType not in ("Face", "Shell")]
 
 
@@ -574,9 +601,8 @@ def _sewn_pieces(solids, faces):
 
 def _sewn(faces):
     """The solid the faces (or shells) close when sewn, or None when they do not close one."""
-    sewn = Part.makeCompound(faces)
     try:
-        sewn.sewShape()
+        sewn = sew(faces)
     except Part.OCCError:  # OCCT's sewing fails on some degenerate B-spline faces
         return None
     shells = closed_shells(sewn)

@@ -121,9 +121,8 @@ def _joined_locally(near, cut, far, far_cut, mapped, end, joints, deviation):
     touched = [f for f in keep if meets(f)]
     mine = {f.hashCode() for f in touched}
     reduced, holes = brep._clear_holes_out(touched, meets)
-    sewn = Part.makeCompound(reduced + mapped)
     try:
-        sewn.sewShape(max(4.0 * deviation, 1e-6))
+        sewn = brep.sew(reduced + mapped, max(4.0 * deviation, 1e-6))
     except Part.OCCError:
         return None
     if len(sewn.Faces) != len(reduced) + len(mapped) or \
@@ -228,7 +227,11 @@ def sewn_solid(faces, joints, deviation, prop, slack=0.0):
     stay up to twice `slack` (the tolerance of the faces the map took), and the tolerances
     brought down again to what each edge needs."""
     tol = max(4.0 * deviation, 1e-6)
-    sewn = _sewn(faces, tol)
+    try:
+        sewn = _sewn(faces, tol)
+    except Part.OCCError as error:
+        raise DeformError(f"OCCT cannot sew the mapped faces ({error}); move Plane or "
+                          f"Plane2 a little, or change {prop}.", prop) from None
     loose = _with_free_edges(sewn.Faces)
     wide = None
     if loose:
@@ -281,8 +284,7 @@ def _sewn_wide(faces, tol):
     as more shells in a compound)."""
     compound = Part.makeCompound(faces).copy()
     compound.limitTolerance(tol)  # raised to tol, larger ones kept (a file's own 0.01 mm)
-    sewn = compound.copy()
-    sewn.sewShape(tol)
+    sewn = brep.sew(compound.copy().Faces, tol)
     if not _with_free_edges(sewn.Faces):
         return sewn
     try:
@@ -310,9 +312,7 @@ def _tightened(solid, tol):
 
 def _sewn(faces, tol):
     """The faces sewn (at `tol` where FreeCAD passes it on) into one compound."""
-    compound = Part.makeCompound(faces)
-    compound.sewShape(tol)
-    return compound
+    return brep.sew(faces, tol)
 
 
 def _with_free_edges(faces):

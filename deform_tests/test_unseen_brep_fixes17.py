@@ -1,0 +1,68 @@
+"""Robustness defects found by running every feature on public B-rep models (OCCT's
+data/occ, see /work/notes/unseen_brep.md), each rebuilt here from primitives.
+
+Oracles: OCCT's isValid, BOP check (Shape.check(True)) and Volume against closed forms.
+"""
+import numpy as np
+import pytest
+
+from .features import fc  # noqa: F401  (FreeCAD on sys.path)
+
+import FreeCAD as App  # noqa: E402
+import Part  # noqa: E402
+
+from freecad_deform.ops import taper, twist  # noqa: E402
+
+V = App.Vector
+Z = np.array([0.0, 0.0, 1.0])
+
+# the section of hyperbola_prism: between x = 2 cosh t, y = sinh t (|t| <= 1/2) and x = 6,
+# int (6 - 2 cosh t) cosh t dt
+SECTION = 12.0 * np.sinh(0.5) - 1.0 - np.sinh(1.0)
+
+
+def hyperbola_prism():
+    """A prism 10 high on a face bounded by a hyperbola arc and three lines: its side there
+    lies on a SurfaceOfExtrusion of the whole (unbounded) hyperbola."""
+    h = Part.Hyperbola()
+    h.MajorRadius, h.MinorRadius = 2.0, 1.0
+    edge = Part.Edge(h, -0.5, 0.5)
+    p0, p1 = edge.Vertexes[0].Point, edge.Vertexes[1].Point
+    corners = [p1, V(6, p1.y, 0), V(6, p0.y, 0), p0]
+    face = Part.Face(Part.Wire([edge] + [Part.makeLine(a, b)
+                                         for a, b in zip(corners, corners[1:])]))
+    return face.extrude(V(0, 0, 10))
+
+
+def test_hyperbola_prism_is_what_the_tests_need():
+    prism = hyperbola_prism()
+    assert "SurfaceOfExtrusion" in [type(f.Surface).__name__ for f in prism.Faces]
+    assert prism.Volume == pytest.approx(10 * SECTION, rel=1e-9)
+
+
+@pytest.mark.parametrize("at,gap,scale", [(4.0, 2.0, 0.8), (1.0, 6.0, 1.5)])
+def test_taper_of_a_prism_on_an_extruded_hyperbola(at, gap, scale):
+    """OCCT's sewing projects onto the hyperbola's extrusion over its whole parameter range
+    and raised a raw Part.OCCError ('Result of Cosh exceeds the maximum value'). The
+    section at s is scaled by 1 + (scale - 1) s / gap both ways, so the region holds
+    SECTION x gap x (1 + (k - 1) + (k - 1)^2 / 3) and the far part SECTION x k^2 x its length."""
+    prism = hyperbola_prism()
+    result, _ = taper.solid(prism, np.array([0.0, 0.0, at]), Z, gap, scale, np.eye(3))
+    assert result.isValid()
+    k = scale - 1.0
+    exact = SECTION * (at + gap * (1 + k + k * k / 3) + scale ** 2 * (10 - at - gap))
+    assert result.Volume == pytest.approx(exact, rel=1e-7)
+    result.check(True)   # OCCT's BOP check raises on an invalid result
+    assert prism.Volume == pytest.approx(10 * SECTION, rel=1e-9)   # the Base unchanged
+
+
+@pytest.mark.parametrize("profile,degrees", [("Linear", 30.0), ("Smooth", -60.0)])
+def test_twist_of_a_prism_on_an_extruded_hyperbola(profile, degrees):
+    """The same sewing failure in the twist's loft join: it was refused ('The swept faces
+    do not close a solid; change Angle') at any Angle. A twist keeps the volume."""
+    prism = hyperbola_prism()
+    result, _ = twist.solid(prism, np.array([0.0, 0.0, 4.0]), Z, 2.0, np.radians(degrees),
+                            profile=profile)
+    assert result.isValid()
+    assert result.Volume == pytest.approx(10 * SECTION, rel=2e-6)
+    result.check(True)
