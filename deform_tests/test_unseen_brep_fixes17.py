@@ -66,3 +66,56 @@ def test_twist_of_a_prism_on_an_extruded_hyperbola(profile, degrees):
     assert result.isValid()
     assert result.Volume == pytest.approx(10 * SECTION, rel=2e-6)
     result.check(True)
+
+
+def bspline_block_with_sphere(how):
+    """A block 200 x 200 whose top is a bicubic B-spline surface (bumps of 20), with a
+    sphere of r 60 fused on (a cap standing out) or cut out of it (a dent): the sphere face
+    meets the B-spline face along an intersection curve OCCT approximated (edge tolerance
+    5e-6), as OCCT's Pump_TopCover's sphere Face1 meets its B-spline Face2."""
+    rng = np.random.default_rng(1)
+    poles = [[V(40.0 * i, 40.0 * j, 100.0 + float(rng.uniform(-20, 20))) for j in range(6)]
+             for i in range(6)]
+    surface = Part.BSplineSurface()
+    surface.buildFromPolesMultsKnots(poles, [4, 1, 1, 4], [4, 1, 1, 4], [0, 1, 2, 3],
+                                     [0, 1, 2, 3], False, False, 3, 3)
+    block = Part.makeBox(200, 200, 400, V(0, 0, -300)).cut(
+        Part.Face(surface).extrude(V(0, 0, 400))).Solids[0]
+    sphere = Part.makeSphere(60, V(100, 100, 90))
+    solid = (block.fuse(sphere) if how == "fuse" else block.cut(sphere)).removeSplitter()
+    return solid.Solids[0]
+
+
+@pytest.mark.parametrize("how,sign", [("fuse", 1.0), ("fuse", -1.0), ("cut", 1.0)])
+def test_push_a_sphere_face_between_bspline_faces(how, sign):
+    """DirectPush rebuilds the trimmed sphere face on its pcurves and sews it back: the
+    merged edge it shares with a B-spline neighbour kept the tolerance sewing gave it from
+    the pushed face's side (1.8e-7) while it lies 3.1e-7 off the neighbour's pcurve, and
+    OCCT's BOP check rejected the result (BOPAlgo_InvalidCurveOnSurface) reported
+    Up-to-date (Pump_TopCover's sphere Face1: 6.7e-6 for 7.6e-6)."""
+    import freecad_deform as fd
+    solid = bspline_block_with_sphere(how)
+    solid.check(True)   # the Base passes OCCT's BOP check
+    index = next(i for i, f in enumerate(solid.Faces) if f.Surface.TypeId == "Part::GeomSphere")
+    face = solid.Faces[index]
+    u0, u1, v0, v1 = face.ParameterRange
+    u, v = u0 + 0.43 * (u1 - u0), v0 + 0.57 * (v1 - v0)
+    assert face.isPartOfDomain(u, v)
+    point = face.valueAt(u, v)
+    target = point + face.normalAt(u, v) * (sign * 4.0)
+    doc = fc.new_document("UnseenPushSphere")
+    try:
+        base = doc.addObject("Part::Feature", "Base")
+        base.Shape = solid
+        obj = fd.make_direct_push(base, f"Face{index + 1}", point, target)
+        assert obj.State == ["Up-to-date"], obj.getStatusString()
+        result = obj.Shape
+        assert result.isValid()
+        result.check(True)   # raises on BOPAlgo_InvalidCurveOnSurface
+        assert result.Faces[index].distToShape(Part.Vertex(target))[0] < 1e-6
+        # the other faces are the Base's (areas to 1e-9)
+        for k, (a, b) in enumerate(zip(solid.Faces, result.Faces)):
+            if k != index:
+                assert b.Area == pytest.approx(a.Area, rel=1e-9)
+    finally:
+        App.closeDocument(doc.Name)

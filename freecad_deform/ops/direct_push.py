@@ -17,7 +17,7 @@ import Part
 from ..geometry.errors import DeformError
 from ..geometry.nurbs import direct_push as dp
 from ..geometry.nurbs import push
-from ..shapes import bspline
+from ..shapes import brep, bspline
 
 INPUTS = ("Element", "Points", "Targets", "Range", "Fixed", "Straight", "Angles")
 
@@ -257,6 +257,7 @@ def _face(inputs, state, blend):
         raise DeformError(f"{name} could not be joined to its neighbours again after the "
                           "push; move the Targets nearer to their Points.", "Targets")
     bspline.settle_tolerances(result.Faces[index])   # result is built on copies
+    result = brep.settled(result, {v.hashCode() for v in result.Faces[index].Vertexes})
     return result if owner.isSame(shape) else shape.replaceShape([(owner, result)])
 
 
