@@ -27,6 +27,7 @@ FIT_TOLERANCE = 1e-4   # a region is a plane / cylinder when its fit deviates le
 HANDLE_TOLERANCE = 5e-3  # handle simplification error (x size)
 PARALLEL = 1e-3        # radians: two planes closer than this are parallel
 SOFT = 1e3             # weight of leaving a free-form region, against 1 for rounding a cylinder
+NO_FLIP = 1e6          # mesh sizes of motion beyond which a triangle's flip is no limit
 
 
 class Drive(NamedTuple):
@@ -268,7 +269,9 @@ class DimensionModel:
 
     def reach(self, field):
         """(lo, hi): the interval of s around 0 in which no triangle's normal turns by 90
-        degrees or more when the vertices move by s * field."""
+        degrees or more when the vertices move by s * field; infinite on a side where none
+        turns before the vertices moved NO_FLIP mesh sizes (a triangle stretched along its
+        plane has a root from rounding alone there, e.g. 5.7e15 on a 20 mm cube)."""
         T = self.triangles
         x, f = self.vertices[T], field[T]
         e1, e2 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
@@ -287,6 +290,8 @@ class DimensionModel:
             r2 = np.where(q != 0, a / q, np.inf)
             real = (disc >= 0)[:, None]
             roots = np.where(real, np.stack([r1, r2], 1), np.inf)
+        far = NO_FLIP * self.size / max(float(np.abs(field).max(initial=0.0)), 1e-300)
+        roots = np.where(np.abs(roots) > far, np.inf, roots)
         pos = np.where(roots > 0, roots, np.inf).min(initial=np.inf)
         neg = np.where(roots < 0, roots, -np.inf).max(initial=-np.inf)
         return float(neg), float(pos)
@@ -687,7 +692,14 @@ def range_text(result):
     lo, hi = result.reach
     if len(result.current) == 1:
         low, high = reach_values(result)
-        return f"reachable {low:.6g} to {high:.6g} (now {result.current[0]:.6g})"
+        now = f"(now {result.current[0]:.6g})"
+        if np.isfinite(low) and np.isfinite(high):
+            return f"reachable {low:.6g} to {high:.6g} {now}"
+        if np.isfinite(low):
+            return f"reachable from {low:.6g} up {now}"
+        if np.isfinite(high):
+            return f"reachable up to {high:.6g} {now}"
+        return f"reachable at any value {now}"
     return f"the feature can move {hi:.6g} toward the target (asked {result.step:.6g})"
 
 
