@@ -231,3 +231,50 @@ class Layers(unittest.TestCase):
                                      and node.level >= 2, f"{name} imports {module}")
                     self.assertFalse(module.startswith(("freecad_deform.features",
                                                         "freecad_deform.gui")), name)
+
+
+class SectionSlice(unittest.TestCase):
+    """pp.sections slices a solid through the faces the plane meets (a shell) where it
+    meets them in general position, and through OCCT's slice of the whole solid
+    otherwise: on real parts both give the same section faces as solid.slice itself."""
+
+    PARTS = ("fc_blocks144.brep", "fc_shelf.brep", "occt_Bottom.brep",
+             "nist_ftc_10_asme1_rb.stp", "face_recognition_sample_part.stp")
+
+    def check(self, solid, origin, normal):
+        from freecad_deform.ops import planes as pp
+        d = float(origin @ normal)
+        wires = solid.slice(V(*normal), d)
+        got = pp.sections([solid], origin, normal, [0.0])[0]
+        if not wires:                         # (a plane through a vertex at the part's end)
+            self.assertEqual(got, [])
+            return
+        want = Part.makeFace(wires, "Part::FaceMakerBullseye").Faces
+        self.assertEqual(len(got), len(want))
+        area = sum(f.Area for f in want)
+        self.assertAlmostEqual(sum(f.Area for f in got), area, delta=1e-9 * abs(area))
+        centre = sum(np.array(tuple(f.CenterOfMass)) * f.Area for f in want) / area
+        np.testing.assert_allclose(pp.section_centroid([solid], origin, normal), centre,
+                                   atol=1e-9 * solid.BoundBox.DiagonalLength)
+
+    def test_sections_of_real_parts_are_the_solids_slices(self):
+        from unittest import mock
+        shells = 0
+        for name in self.PARTS:
+            shape = Part.Shape()
+            shape.read(fc.testdata(name))
+            solid = max(shape.Solids, key=lambda s: s.Volume)
+            box = solid.BoundBox
+            lo, hi = np.array([box.XMin, box.YMin, box.ZMin]), np.array([box.XMax, box.YMax,
+                                                                         box.ZMax])
+            vertex = np.array(tuple(solid.Vertexes[len(solid.Vertexes) // 2].Point))
+            for k, normal in enumerate(np.eye(3)):
+                for origin in [lo + f * (hi - lo) for f in (0.31, 0.77)] + [vertex]:
+                    with self.subTest(name=name, axis=k, origin=origin), mock.patch(
+                            "Part.makeShell", wraps=Part.makeShell) as shell:
+                        self.check(solid, origin, normal)
+                        shells += shell.call_count
+            if name == "fc_blocks144.brep":   # its planes in general position: the shell
+                self.assertGreater(shells, 0)
+        oblique = np.array([0.48, 0.6, 0.64])
+        self.check(solid, (lo + hi) / 2, oblique)

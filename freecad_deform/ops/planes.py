@@ -158,18 +158,44 @@ def sections(solids, origin, normal, offsets):
     solid by solid: the solids of an assembly may overlap, and one face maker over all their
     wires would nest one solid's outline in another's."""
     import Part
-    import FreeCAD as App
-    n = App.Vector(*normal)
     out = []
     for off in offsets:
         d = float(np.dot(origin + off * normal, normal))
         faces = []
         for solid in solids:
-            wires = solid.slice(n, d)
+            wires = _slice(solid, normal, d)
             if wires:
                 faces += Part.makeFace(wires, "Part::FaceMakerBullseye").Faces
         out.append(faces)
     return out
+
+
+def _slice(solid, normal, d):
+    """solid.slice(normal, d): OCCT slices a solid through a boolean with a half-space, which
+    takes 0.86 s on fc_blocks144's 996 faces. Where the plane meets only planar faces, in
+    general position (no vertex within its tolerance of the plane), the section of the
+    faces whose boxes reach it, as shells, gives the same loops in 0.057 s; those are
+    taken when every one is closed, else (a box too tight) the solid's slice. (Across
+    curved faces the two differ: 1.2 % of the area on occt_Bottom's B-spline faces, where
+    the half-space's is 0.2 % from a thin slab's volume.)"""
+    import Part
+    import FreeCAD as App
+    n = App.Vector(*normal)
+    size = float(np.linalg.norm(normal))
+    unit, at = np.asarray(normal, float) / size, d / size      # the plane unit . x = at
+    vertices = solid.Vertexes
+    s = np.array([tuple(v.Point) for v in vertices], float).reshape(-1, 3) @ unit - at
+    if len(s) and (np.abs(s) > np.array([v.Tolerance for v in vertices]) + brep.TOL).all():
+        faces = solid.Faces
+        boxes = np.array([(b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
+                          for b in (f.BoundBox for f in faces)])
+        lo, hi = box_extents(boxes[:, :3], boxes[:, 3:], at * unit, unit)
+        near = [faces[i] for i in np.flatnonzero((lo <= brep.TOL) & (hi >= -brep.TOL))]
+        if near and all(isinstance(f.Surface, Part.Plane) for f in near):
+            wires = Part.makeShell(near).slice(n, d)
+            if wires and all(w.isClosed() for w in wires):
+                return wires
+    return solid.slice(n, d)
 
 
 def section_centroid(solids, origin, normal):
