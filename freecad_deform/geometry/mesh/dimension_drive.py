@@ -18,7 +18,8 @@ from .dimension_handle import build_handle, triangle_fit
 from ..errors import DeformError
 from .fits import fit_cylinder, fit_plane
 from .intersect import new_intersections
-from .regions import region_adjacency, segment, triangle_normals, vertex_regions
+from .regions import (edge_triangles, region_adjacency, segment, triangle_normals,
+                      vertex_regions)
 from .simplify import simplify
 from ..vectors import unit
 
@@ -105,6 +106,8 @@ def absorb(vertices, triangles, normals, labels, tolerance):
     the circle); fitting, as in the paper's reference [1], puts them back."""
     labels = np.unique(labels, return_inverse=True)[1].reshape(-1)
     surfaces = {}
+    inner = edge_triangles(triangles)[1]
+    inner = inner[inner[:, 1] >= 0]          # the two triangles of every inner edge
 
     def surface(r):
         if r not in surfaces:
@@ -117,15 +120,24 @@ def absorb(vertices, triangles, normals, labels, tolerance):
     while merged:
         merged = False
         sizes = np.bincount(labels)
-        pairs = region_adjacency(triangles, labels)
-        for r in np.argsort(sizes, kind="stable"):
-            points = vertices[np.unique(triangles[labels == r])]
-            neighbours = sorted({b if a == r else a for a, b in pairs if r in (a, b)},
-                                key=lambda q: -sizes[q])
-            for q in neighbours:
-                if sizes[q] >= sizes[r] and surface(q) is not None and \
-                        np.all(surface(q)(points) <= tolerance):
-                    labels[labels == r] = q
+        a, b = labels[inner[:, 0]], labels[inner[:, 1]]
+        near = {}                            # each region's neighbours (sets, as they were)
+        for x, y in {(int(x), int(y)) for x, y in np.unique(
+                np.sort(np.stack([a, b], 1)[a != b], axis=1), axis=0)}:
+            near.setdefault(x, set()).add(y)
+            near.setdefault(y, set()).add(x)
+        groups = np.split(np.argsort(labels, kind="stable"), np.cumsum(sizes)[:-1])
+        for r in np.argsort(sizes, kind="stable").tolist():
+            points = None
+            for q in sorted(near.get(r, ()), key=lambda q: -sizes[q]):
+                if sizes[q] < sizes[r]:
+                    break
+                if surface(q) is None:
+                    continue
+                if points is None:
+                    points = vertices[np.unique(triangles[groups[r]])]
+                if np.all(surface(q)(points) <= tolerance):
+                    labels[groups[r]] = q
                     surfaces.pop(q)
                     merged = True
                     break

@@ -149,7 +149,7 @@ def _batched(V, T, lab, kind, quadrics, tolerance, gone):
     trace = np.trace(A, axis1=1, axis2=2)
     gone = np.zeros(n, bool) if gone is None else gone & (kind == LINE)
     min_area = MIN_AREA * float(np.sum(np.ptp(V, axis=0) ** 2)) if n else 0.0
-    while len(np.unique(T)) > LOOP_VERTICES:
+    while np.count_nonzero(np.bincount(T.reshape(-1), minlength=n)) > LOOP_VERTICES:
         mesh = _Edges(T, lab, n)
         # the collapses allowed: inside a region to any neighbour, along a line on it
         src, dst = mesh.src, mesh.dst
@@ -601,11 +601,11 @@ def _quadrics(V, T, a, b, face, on_line):
     both ends of a boundary half-edge, the plane through it perpendicular to its triangle."""
     nrm = unit(np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]]))
     fence = unit(np.cross(nrm[face[on_line]], V[b[on_line]] - V[a[on_line]]))
-    A = np.zeros((len(V), 3, 3))
-    for at, n in ((T[:, 0], nrm), (T[:, 1], nrm), (T[:, 2], nrm),
-                  (a[on_line], fence), (b[on_line], fence)):
-        np.add.at(A, at, n[:, :, None] * n[:, None, :])
-    return A
+    at = np.concatenate([T[:, 0], T[:, 1], T[:, 2], a[on_line], b[on_line]])
+    n = np.concatenate([nrm, nrm, nrm, fence, fence])
+    nn = (n[:, :, None] * n[:, None, :]).reshape(-1, 9)
+    # summed in this order, as np.add.at would (bincount is its fast form)
+    return np.stack([np.bincount(at, nn[:, k], len(V)) for k in range(9)], 1).reshape(-1, 3, 3)
 
 
 def _should_flip(a, b, c, d, flat):
