@@ -12,10 +12,11 @@ Prints tables, asserts nothing about time.
    simplification, prisms and Warren coordinates, in wall and in CPU time (the median of
    each over the same runs); the op (ops.dimension_drive: handle and drive, FreeCAD
    conversions included) and a document recompute for a new Target, with their CPU time.
-2. Handle generation on the STL models of testdata (sh2, TR12J, counter) and a 400 x 400 x 10
-   plate with a 12 x 12 grid of round holes tessellated by OCCT (0.05 mm): the meshes the
-   outline simplification must not make slower than collapsing them whole (issue 16); CPU
-   time, and the simplification's route (how many regions its outlines build).
+2. Handle generation on the STL models of testdata (sh2, TR12J, counter), a 400 x 400 x 10
+   plate with a 12 x 12 grid of round holes tessellated by OCCT (0.05 mm) and a bumpy
+   sphere of 81,920 triangles (deform_tests' large-mesh test: collapsed whole, in batches
+   first, like a scan): the meshes the outline simplification must not make slower than
+   collapsing them whole (issue 16); CPU time, and the simplification's route.
 3. Update for 300,000 and 1,000,000 vertices (paper: under 30 ms for 300,000 vertices
    and 10 handle vertices): fandisk subdivided four times (1.66M vertices, every child
    triangle in its parent's region, the same simplified mesh), bound to the handle; the
@@ -38,6 +39,7 @@ import numpy as np  # noqa: E402
 from scipy.sparse import csr_matrix  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
+from deform_tests.geometry.test_dimension_drive_large import icosphere  # noqa: E402
 from freecad_deform.geometry.mesh import dimension_drive as dd  # noqa: E402
 from freecad_deform.geometry.mesh import simplify as simplification  # noqa: E402
 from freecad_deform.geometry.mesh.dimension_handle import build_handle  # noqa: E402
@@ -91,6 +93,10 @@ def other_meshes(quick):
         points, tris = holed_plate(12, 12).tessellate(0.05)
         yield ("plate, 12 x 12 holes", np.array([tuple(p) for p in points]),
                np.array(tris, np.int64))
+        V, T = icosphere(6)
+        x, y, z = V.T
+        yield ("bumpy sphere", 50 * V * (1 + 0.1 * np.sin(3 * x) * np.sin(4 * y)
+                                         * np.cos(2 * z))[:, None], T)
 
 
 def route(V, T, model):
