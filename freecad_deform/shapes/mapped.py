@@ -228,25 +228,10 @@ def sewn_solid(faces, joints, deviation, prop, slack=0.0):
     brought down again to what each edge needs."""
     tol = max(4.0 * deviation, 1e-6)
     try:
-        sewn = _sewn(faces, tol)
+        sewn, wide = _sewn_closed(faces, tol, slack)
     except Part.OCCError as error:
         raise DeformError(f"OCCT cannot sew the mapped faces ({error}); move Plane or "
                           f"Plane2 a little, or change {prop}.", prop) from None
-    loose = _with_free_edges(sewn.Faces)
-    wide = None
-    if loose:
-        wide = max([tol] + [2.0 * e.Tolerance for f in loose for e in f.Edges])
-        sewn = _sewn_wide(faces, wide)
-        while brep.closed_shells(sewn) is None and wide < 2.0 * slack:
-            wide = min(2.0 * wide, 2.0 * slack)
-            sewn = _sewn_wide(faces, wide)
-        if brep.closed_shells(sewn) is None:
-            # a fuzzy general fuse of the faces around the gaps shares them, then all is
-            # sewn again (it works on copies: rigid faces next to the gaps may be refit)
-            loose = _with_free_edges(sewn.Faces)
-            fused = loose[0].generalFuse(loose[1:], wide)[0]
-            keep = [f for f in sewn.Faces if not any(f.isSame(g) for g in loose)]
-            sewn = _sewn(keep + fused.Faces, tol)
     shells = brep.closed_shells(sewn)
     if shells is None:
         raise DeformError(f"The mapped faces do not close a solid (gaps above "
@@ -265,6 +250,28 @@ def sewn_solid(faces, joints, deviation, prop, slack=0.0):
         raise DeformError(f"The mapped faces do not join into one valid solid; lower {prop}.",
                           prop)
     return _settled(solid.copy())
+
+
+def _sewn_closed(faces, tol, slack):
+    """(the faces sewn, the wider tolerance it took or None): at `tol`, else as
+    sewn_solid tells."""
+    sewn = _sewn(faces, tol)
+    loose = _with_free_edges(sewn.Faces)
+    if not loose:
+        return sewn, None
+    wide = max([tol] + [2.0 * e.Tolerance for f in loose for e in f.Edges])
+    sewn = _sewn_wide(faces, wide)
+    while brep.closed_shells(sewn) is None and wide < 2.0 * slack:
+        wide = min(2.0 * wide, 2.0 * slack)
+        sewn = _sewn_wide(faces, wide)
+    if brep.closed_shells(sewn) is None:
+        # a fuzzy general fuse of the faces around the gaps shares them, then all is
+        # sewn again (it works on copies: rigid faces next to the gaps may be refit)
+        loose = _with_free_edges(sewn.Faces)
+        fused = loose[0].generalFuse(loose[1:], wide)[0]
+        keep = [f for f in sewn.Faces if not any(f.isSame(g) for g in loose)]
+        sewn = _sewn(keep + fused.Faces, tol)
+    return sewn, wide
 
 
 def _settled(solid):
