@@ -536,6 +536,7 @@ def _glued(solids, faces, on_surface):
     touched = [f for f in faces if meets(f)]
     mine = {f.hashCode() for f in touched}
     reduced, holes = _clear_holes_out(touched, meets)
+    before = joint_edges(reduced, joint)
     sewn = Part.makeCompound(reduced)
     try:
         sewn.sewShape()
@@ -565,7 +566,7 @@ def _glued(solids, faces, on_surface):
             touched) + len(merged) or not _valid_faces(new, meets) or not _manifold(
             merged, meets) or not _shells_valid(out):
         return None
-    return _settled_at_joints(out, on_surface)
+    return _settled_at_joints(kept_tolerances(out, new, before, joint), on_surface)
 
 
 def _kept_orientation(before, after):
@@ -660,25 +661,83 @@ def _merged(fused, on_surface):
     return None, "the faces at a joint fail OCCT's check"
 
 
+def joint_edges(faces, joint):
+    """The edges of `faces` (each once) with a vertex whose hashCode is in `joint`."""
+    out = {}
+    for face in faces:
+        for edge in face.Edges:
+            if not edge.Degenerated and any(v.hashCode() in joint for v in edge.Vertexes):
+                out.setdefault(edge.hashCode(), edge)
+    return list(out.values())
+
+
+def kept_tolerances(shape, faces, before, joint):
+    """`shape`, or a copy of it with each edge that reaches a joint (a vertex's hashCode in
+    `joint`) raised to the largest tolerance of the edges in `before` it was sewn from
+    (the same ends, its midpoint within both tolerances) where that is over twice its
+    own. Sewing sets the tolerance of every edge of the faces it sews from its own
+    samples: the far joint of a stretch kept
+    1.2e-7 where the split had given the same cut edge 8.4e-6 at the near one, and a face
+    tangent to the cut face there (OCCT's Pump_TopCover: a sphere tangent to a B-spline
+    face), touching the swept side only at a vertex, grazes it beyond that (OCCT's BOP
+    check: SelfIntersect). `faces`: those of `shape` sewing made; `before`: the pieces'
+    edges reaching the joints, as sewing got them."""
+    before = [e for e in before if e.Tolerance > 2.0 * TOL]  # none is below TOL
+    if not before:
+        return shape
+    ends = np.array([[tuple(e.valueAt(e.FirstParameter)), tuple(e.valueAt(e.LastParameter))]
+                     for e in before], float)
+    tols = np.array([e.Tolerance for e in before])
+    own = {e.hashCode() for e in before}
+    raise_to = {}
+    for edge in joint_edges(faces, joint):
+        if edge.hashCode() in own or 2.0 * edge.Tolerance >= tols.max():
+            continue
+        a, b = (np.array(tuple(edge.valueAt(t))) for t in (edge.FirstParameter,
+                                                            edge.LastParameter))
+        slack = tols + edge.Tolerance + TOL
+        same = np.minimum(np.maximum(np.linalg.norm(ends[:, 0] - a, axis=1),
+                                     np.linalg.norm(ends[:, 1] - b, axis=1)),
+                          np.maximum(np.linalg.norm(ends[:, 0] - b, axis=1),
+                                     np.linalg.norm(ends[:, 1] - a, axis=1))) <= slack
+        same &= tols > 2.0 * edge.Tolerance   # far more than sewing left it
+        for k in np.flatnonzero(same):
+            old = before[k]
+            mid = old.valueAt(0.5 * (old.FirstParameter + old.LastParameter))
+            if edge.distToShape(Part.Vertex(mid))[0] <= slack[k]:
+                h = edge.hashCode()
+                raise_to[h] = max(raise_to.get(h, 0.0), tols[k])
+    if not raise_to:
+        return shape
+    index = {e.hashCode(): k for k, e in enumerate(shape.Edges)}
+    out = shape.copy()
+    edges = out.Edges
+    for h, tol in raise_to.items():
+        edges[index[h]].limitTolerance(tol)
+    return out
+
+
 def _settled_at_joints(solid, on_surface):
-    """The solid with the tolerance of each edge lying on a joint raised to twice the gap
+    """The solid with the tolerance of each edge reaching a joint raised to twice the gap
     between its 3D curve and its pcurves, on a copy when one must rise (settled)."""
     return settled(solid, joint_vertices(solid, on_surface))
 
 
 def settled(shape, joint=None):
-    """`shape`, or a copy of it with the tolerance of each edge (each with its vertices in
+    """`shape`, or a copy of it with the tolerance of each edge (each with a vertex in
     `joint`, hashCodes, when given) raised to twice the gap between its 3D curve and its
     pcurves (bspline.pcurve_gaps) where that is more: sewing sets a merged edge's
     tolerance from its own samples, below the gap of a pcurve OCCT's split approximated
     (a sphere cut off its axis: 1.246e-7 against 1.234e-7; a cut B-spline sheet: 9.3e-5
-    against 4.6e-5), and OCCT's BOP check and booleans reject such an edge. A copy, so
-    that edges shared with the Base are never changed."""
+    against 4.6e-5), and so it does for every edge of the faces it sews, and merging the
+    faces across a joint gives those from the joint to a fillet's end new pcurves (4.97e-6
+    for a gap of 5.1e-6 on a filleted tee); OCCT's BOP check and booleans reject such an
+    edge. A copy, so that edges shared with the Base are never changed."""
     from .bspline import pcurve_gaps
     index = {e.hashCode(): k for k, e in enumerate(shape.Edges)}
     low = {}
     def which(edge):
-        return joint is None or all(v.hashCode() in joint for v in edge.Vertexes)
+        return joint is None or any(v.hashCode() in joint for v in edge.Vertexes)
 
     for face in shape.Faces:
         if joint is not None and not any(v.hashCode() in joint for v in face.Vertexes):
