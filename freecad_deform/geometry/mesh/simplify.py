@@ -27,6 +27,7 @@ MIN_AREA = 1e-12    # ... and must leave its doubled area above this times the b
 CHUNK = 4096       # x 16 point-triangle pairs measured at once by _far_labels (memory)
 LOOP_VERTICES = 3000  # _collapsed's loop takes over from _batched at this many vertices
 BATCH_SHARE = 0.5  # _batched takes collapses within this share of the tolerance
+MIN_BATCH = 0.01   # ... and stops after a round that removed fewer than this share of vertices
 PICK_TRIES = 4     # rounds of picking in one batch of _batched (refused ones drop out)
 
 
@@ -142,14 +143,16 @@ def _batched(V, T, lab, kind, quadrics, tolerance, gone):
     takes the collapses within BATCH_SHARE of the tolerance that meet no cheaper one
     (_picked) and pass _Collapser's checks (_refused), and applies them at once; none
     changes what another reads or writes, so a round is a sequence of valid collapses.
-    The loop's one collapse at a time costs some 0.3 ms in Python: 10 s on a 70 k-triangle
-    scan, where these rounds take about 1 s."""
+    A round removing under MIN_BATCH of the vertices is the last. The loop's one collapse
+    at a time costs some 0.3 ms in Python: 10 s on a 70 k-triangle scan, where these
+    rounds take about 1 s."""
     A, b, c = (q.copy() for q in quadrics)
     n = len(V)
     trace = np.trace(A, axis1=1, axis2=2)
     gone = np.zeros(n, bool) if gone is None else gone & (kind == LINE)
     min_area = MIN_AREA * float(np.sum(np.ptp(V, axis=0) ** 2)) if n else 0.0
-    while np.count_nonzero(np.bincount(T.reshape(-1), minlength=n)) > LOOP_VERTICES:
+    live = np.count_nonzero(np.bincount(T.reshape(-1), minlength=n))
+    while live > LOOP_VERTICES:
         mesh = _Edges(T, lab, n)
         # the collapses allowed: inside a region to any neighbour, along a line on it
         src, dst = mesh.src, mesh.dst
@@ -164,8 +167,6 @@ def _batched(V, T, lab, kind, quadrics, tolerance, gone):
         ok = cost <= (BATCH_SHARE * tolerance) ** 2
         us, vs, cost, full = us[ok], vs[ok], cost[ok], full[ok]
         k = _picked(mesh, us, vs, cost, partial(_refused, V, T, kind, mesh, min_area=min_area))
-        if not len(k):
-            break
         u, v = us[k], vs[k]
         c[v] = full[k]
         b[v] += b[u] + np.einsum("kij,kj->ki", A[u], V[v] - V[u])
@@ -174,8 +175,11 @@ def _batched(V, T, lab, kind, quadrics, tolerance, gone):
         to = np.arange(n)
         to[u] = v
         T = to[T]
-        live = (T[:, 0] != T[:, 1]) & (T[:, 1] != T[:, 2]) & (T[:, 2] != T[:, 0])
-        T, lab = T[live], lab[live]
+        kept = (T[:, 0] != T[:, 1]) & (T[:, 1] != T[:, 2]) & (T[:, 2] != T[:, 0])
+        T, lab = T[kept], lab[kept]
+        if len(k) < MIN_BATCH * live:
+            break                       # the rest waits on other collapses: the loop's
+        live -= len(k)
     return T, lab, (A, b, c)
 
 
@@ -382,17 +386,18 @@ class _Collapser:
     old neighbours, and those into v), so a live entry's cost is current and a pair
     refused when popped comes back once its neighbourhood changes. The quadrics are
     plain lists of floats: a collapse re-costs a dozen pairs, where numpy's per-call
-    cost would be most of the loop.
+    cost would be most of the loop. `kind` holds the vertex classes and `quadrics` the
+    (A, b, c) of every vertex (see cost), both as _batched left them.
     """
 
     def __init__(self, V, T, lab, tolerance, kind, quadrics, gone=None):
         n = len(V)
         ends = _kinds(V, T, lab)[1]
-        A, b, c = quadrics
+        A, linear, constant = quadrics
         self.gone = set() if gone is None else set(np.flatnonzero(gone & (kind == LINE)).tolist())
         self.A = A.reshape(n, 9).tolist()
         self.trace = np.trace(A, axis1=1, axis2=2).tolist()
-        self.b, self.c = b.tolist(), c.tolist()
+        self.b, self.c = linear.tolist(), constant.tolist()
         self.kind, self.lab = kind.tolist(), lab.tolist()
         self.along = {u: [] for u in np.flatnonzero(kind == LINE).tolist()}
         for a, b in ends.tolist():
