@@ -56,6 +56,20 @@ def turned(points, centre, axis, degrees):
             + np.outer(r @ k, k) * (1 - np.cos(phi)))
 
 
+def centres_in(V1, V0, origin, n, gap, samples, centre):
+    """How many of the result's vertices are quadrilaterals' centres: neither on a plane
+    (a cut point) nor an input vertex (turned back by -ANGLE clip(s / gap), within the
+    float32 storage)."""
+    s = (V1 - origin) @ n
+    level = s * samples / gap
+    step = 4 * float(np.finfo(np.float32).eps) * max(1.0, np.abs(V1).max())   # stored
+    on = np.abs(level - np.round(level)) * gap / samples < step
+    back = np.array([turned(p, centre, n, -ANGLE * f)
+                     for p, f in zip(V1, np.clip(s / gap, 0, 1))]).reshape(-1, 3)
+    known = cKDTree(V0).query(back)[0] < step
+    return int((~on & ~known).sum())
+
+
 def sampling_error(segments, gap, centre, n, samples, V0, area):
     """How far the twisted mesh's volume may be off: the band (perimeter P x gap) is flat
     facets between section rings turned by step = angle / samples. Each facet sags off the
@@ -149,9 +163,11 @@ class MeshSamplesTest(unittest.TestCase):
             levels = gap * np.arange(samples + 1) / samples
             sections, snapped = plane_sections(V0, T0, origin, n, levels, eps)
             tiny = sum(x[3] for x in sections)
-            self.assertEqual(out.CountFacets,
-                             expected_count(V0, T0, origin, n, gap, samples, eps) - 2 * tiny)
-            self.assertLessEqual(out.CountFacets, len(T0) + 2 * (samples + 1) * most)
+            centres = centres_in(V1, V0, origin, n, gap, samples, centre)   # 2 more each
+            self.assertEqual(out.CountFacets, expected_count(V0, T0, origin, n, gap, samples,
+                                                             eps) - 2 * tiny + 2 * centres)
+            self.assertLessEqual(out.CountFacets - 2 * centres,
+                                 len(T0) + 2 * (samples + 1) * most)
             tol = sampling_error([x[:2] for x in sections], gap, centre, n, samples, V0,
                                  mesh.Area)
             self.assertLess(abs(volume(V1, T1) - volume(V0, T0)), tol)
@@ -175,7 +191,8 @@ class MeshSamplesTest(unittest.TestCase):
 
     def test_box_at_the_bound(self):
         """The 12-triangle box 40 x 20 x 20 at Samples = MAX_SAMPLES: closed, its 8 side
-        triangles each crossing all MAX_SAMPLES + 1 planes (2k + 1 pieces each) and its 4 end
+        triangles each crossing all MAX_SAMPLES + 1 planes (2k + 1 pieces each, 2 more for
+        each quadrilateral the twist takes out of its plane: centres_in) and its 4 end
         triangles whole; the volume kept up to the sampling error; one Sample more
         is refused naming Samples and the bound."""
         box = Mesh.Mesh(Part.makeBox(40, 20, 20).tessellate(1.0))
@@ -186,8 +203,10 @@ class MeshSamplesTest(unittest.TestCase):
         self.assertEqual(obj.State, ["Up-to-date"], obj.getStatusString())
         self.assertTrue(obj.Mesh.isSolid())
         self.assertFalse(obj.Mesh.hasNonManifolds())
-        self.assertEqual(obj.Mesh.CountFacets, 4 + 8 * (2 * (MAX_SAMPLES + 1) + 1))
         V0, T0 = arrays(box)
+        centres = centres_in(arrays(obj.Mesh)[0], V0, origin, n, gap, MAX_SAMPLES, centre)
+        self.assertEqual(obj.Mesh.CountFacets,
+                         4 + 8 * (2 * (MAX_SAMPLES + 1) + 1) + 2 * centres)
         segments = [section_segments(V0, T0, origin, n, level) for level in (0.0, gap)]
         tol = sampling_error(segments, gap, centre, n, MAX_SAMPLES, V0, box.Area)
         self.assertLess(abs(volume(*arrays(obj.Mesh)) - volume(*arrays(box))), tol)

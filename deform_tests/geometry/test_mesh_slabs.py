@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation
 from freecad_deform.geometry import DeformError
 from freecad_deform.geometry.mesh.sweep import map_between, twist_motion
 
-from ..oracles.mesh import assert_closed_manifold, blob, volume
+from ..oracles.mesh import assert_closed_manifold, blob, centres_from, check_centres, volume
 from ..oracles.mesh import distance_to_segments, expected_count, section_segments
 
 BLOB = blob(300)
@@ -27,6 +27,28 @@ def twisted(V0, T0, origin, n, gap, angle, samples, centre=None):
     return map_between(V0, T0, origin, n, gap, f, samples)
 
 
+def untwist(origin, n, gap, angle, centre=None):
+    """Moved points (k, 3) -> their input places: turned back by -angle clip(s / gap)
+    about the axis (scipy)."""
+    centre = np.zeros(3) if centre is None else np.asarray(centre, float)
+
+    def back(P):
+        f = np.clip((P - origin) @ n / gap, 0, 1)
+        return Rotation.from_rotvec(-angle * f[:, None] * n).apply(P - centre) + centre
+    return back
+
+
+def counted_with_centres(V0, T0, V, T, origin, n, gap, samples, eps=1e-9, removed=0):
+    """The piece count with the quadrilaterals' centres: each centre turns a two-triangle
+    quadrilateral into four, so 2 more triangles than expected_count per centre (less
+    `removed`); the centres where check_centres wants them. Returns how many."""
+    first = centres_from(V, V0, origin, n, gap, samples)
+    assert len(T) == expected_count(V0, T0, origin, n, gap, samples, eps) - removed + 2 * (
+        len(V) - first)
+    check_centres(V, T, first, 1e-9 * max(1.0, np.abs(V).max()))
+    return len(V) - first
+
+
 @pytest.mark.parametrize("samples", [1, 7, 64, 512, 4096])
 def test_blob_pieces_closed_and_counted(samples):
     V0, T0 = BLOB
@@ -35,14 +57,14 @@ def test_blob_pieces_closed_and_counted(samples):
     origin, gap = -0.55 * n, 1.1
     V, T = twisted(V0, T0, origin, n, gap, 2.0, samples)
     assert_closed_manifold(V, T, min_area=0.0)
-    assert len(T) == expected_count(V0, T0, origin, n, gap, samples, 1e-9)
-    # the vertices: the input's and one per (edge, plane crossed), nothing else
+    centres = counted_with_centres(V0, T0, V, T, origin, n, gap, samples)
+    # the vertices: the input's, one per (edge, plane crossed) and the centres, nothing else
     E = np.unique(np.sort(np.r_[T0[:, [0, 1]], T0[:, [1, 2]], T0[:, [2, 0]]], axis=1), axis=0)
     level = ((V0 - origin) @ n) * samples / gap
     lo, hi = np.sort(level[E], axis=1).T
     crossings = np.maximum(np.minimum(np.ceil(hi) - 1, samples) - np.maximum(np.floor(lo) + 1, 0)
                            + 1, 0).sum()
-    assert len(V) == len(V0) + crossings
+    assert len(V) == len(V0) + crossings + centres
 
 
 @pytest.mark.parametrize("samples", [3, 16, 100])
@@ -81,7 +103,7 @@ def test_twisted_blob_closed_counted_and_volume_kept(tilt, start, part, angle, s
     origin, gap = start * n, part * (0.9 - start)   # both planes cross the unit sphere
     V, T = twisted(V0, T0, origin, n, gap, angle, samples)
     assert_closed_manifold(V, T, min_area=0.0)
-    assert len(T) == expected_count(V0, T0, origin, n, gap, samples, 1e-9)
+    counted_with_centres(V0, T0, V, T, origin, n, gap, samples)
     delta = abs(angle) / samples
     band = 2 * np.pi * gap                      # area of the band, within a unit sphere
     w = np.linalg.norm(V0[T0] - V0[np.roll(T0, 1, axis=1)], axis=2).max()
@@ -112,7 +134,7 @@ def test_needle_tip_cut_points_merge_and_stay_closed():
     origin, gap, eps = A + 5e-9 * n, 1.0, 1e-9
     V, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.3), 4, eps=eps)
     assert_closed_manifold(V, T, min_area=0.0)
-    assert len(T) == expected_count(V0, T0, origin, n, gap, 4, eps) - 2
+    counted_with_centres(V0, T0, V, T, origin, n, gap, 4, eps, removed=2)
     on = np.abs((V - origin) @ n) < 1e-12
     assert on.sum() == 3
     assert cKDTree(V[on]).query(V[on], 2)[0][:, 1].min() > eps
@@ -153,28 +175,34 @@ def test_triangles_crossing_none_one_or_several_planes(flipped):
     """Each piece lies in one slab (no plane strictly between its corners' levels), in the
     plane of one input triangle and facing its way; the pieces of a triangle add up to
     its area, and their count is 2k + 1 for k planes crossed (2k with b on a plane). Twisted
-    by 1.3 rad, every vertex turned back by -1.3 clip(s / gap) about the axis (scipy) lies
-    in its triangle's plane, inside it."""
+    by 1.3 rad, every vertex turned back by -1.3 clip(s / gap) about the axis (scipy) is
+    where the untwisted cut put it, and the pieces are the untwisted ones but for the
+    quadrilaterals that got a centre (four triangles about it, check_centres)."""
     V0, T0 = loose_triangles()
     if flipped:                                   # the other orientation of every triangle
         T0 = T0[:, ::-1].copy()
     n, origin, gap, samples = np.array([1.0, 0, 0]), np.zeros(3), 4.0, 4
     normals = triangle_normals(V0, T0)
     unit_normals = normals / np.linalg.norm(normals, axis=1)[:, None]
+
+    def parents(V, T):                            # each piece's input triangle, checked
+        level = V[:, 0] * samples / gap
+        lo, hi = level[T].min(axis=1), level[T].max(axis=1)
+        assert (np.floor(lo + 1e-12) + 1 >= np.ceil(hi - 1e-12)).all()
+        off = np.abs(np.einsum("pk,tk->pt", V[T].mean(axis=1), unit_normals)
+                     - np.einsum("tk,tk->t", V0[T0[:, 0]], unit_normals))
+        parent = off.argmin(axis=1)
+        assert off.min(axis=1).max() < 1e-12
+        piece_normals = triangle_normals(V, T)
+        assert (np.einsum("pk,pk->p", piece_normals, normals[parent]) > 0).all()
+        area = np.bincount(parent, np.linalg.norm(piece_normals, axis=1) / 2, len(T0))
+        np.testing.assert_allclose(area, np.linalg.norm(normals, axis=1) / 2, rtol=1e-12)
+        return parent
+
     V, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.0), samples)
+    assert len(V) == centres_from(V, V0, origin, n, gap, samples)     # flat: no centre
     assert len(T) == expected_count(V0, T0, origin, n, gap, samples, 1e-9)
-    level = V[:, 0] * samples / gap
-    lo, hi = level[T].min(axis=1), level[T].max(axis=1)
-    assert (np.floor(lo + 1e-12) + 1 >= np.ceil(hi - 1e-12)).all()
-    # the parent of each piece: the input triangle whose plane holds its corners
-    off = np.abs(np.einsum("pk,tk->pt", V[T].mean(axis=1), unit_normals)
-                 - np.einsum("tk,tk->t", V0[T0[:, 0]], unit_normals))
-    parent = off.argmin(axis=1)
-    assert off.min(axis=1).max() < 1e-12
-    piece_normals = triangle_normals(V, T)
-    assert (np.einsum("pk,pk->p", piece_normals, normals[parent]) > 0).all()
-    area = np.bincount(parent, np.linalg.norm(piece_normals, axis=1) / 2, len(T0))
-    np.testing.assert_allclose(area, np.linalg.norm(normals, axis=1) / 2, rtol=1e-12)
+    parent = parents(V, T)
     top, bottom = V0[T0, 0].max(axis=1), V0[T0, 0].min(axis=1)    # planes strictly between
     crossed = np.maximum(np.minimum(np.ceil(top) - 1, samples) - np.maximum(np.floor(bottom) + 1, 0)
                          + 1, 0)
@@ -182,13 +210,14 @@ def test_triangles_crossing_none_one_or_several_planes(flipped):
                      and np.sort(x)[0] < np.sort(x)[1] < np.sort(x)[2] for x in V0[T0, 0]])
     pieces = np.bincount(parent, minlength=len(T0))
     np.testing.assert_array_equal(pieces, np.where(crossed == 0, 1, 2 * crossed + 1 - b_on))
-    # turned: the same pieces (the cut does not depend on the motion), every vertex back by
-    # its own angle where the untwisted cut put it
     angle = 1.3
     Vt, Tt = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, angle), samples)
-    np.testing.assert_array_equal(Tt, T)
-    back = Rotation.from_rotvec(-angle * np.clip(Vt[:, 0] / gap, 0, 1)[:, None] * n).apply(Vt)
-    np.testing.assert_allclose(back, V, atol=1e-12)
+    back = untwist(origin, n, gap, angle)(Vt)
+    np.testing.assert_allclose(back[:len(V)], V, atol=1e-12)
+    centres = counted_with_centres(V0, T0, Vt, Tt, origin, n, gap, samples)
+    assert centres > 0
+    plain = Tt[(Tt < len(V)).all(axis=1)]
+    assert set(map(tuple, plain.tolist())) <= set(map(tuple, T.tolist()))
 
 
 def test_a_mesh_of_many_blocks_is_cut_on_every_core_as_on_one(monkeypatch):
@@ -209,7 +238,7 @@ def test_a_mesh_of_many_blocks_is_cut_on_every_core_as_on_one(monkeypatch):
     np.testing.assert_array_equal(V, V1)
     np.testing.assert_array_equal(T, T1)
     assert_closed_manifold(V, T, min_area=0.0)
-    assert len(T) == expected_count(V0, T0, origin, n, gap, samples, 1e-9)
+    counted_with_centres(V0, T0, V, T, origin, n, gap, samples)
     delta = angle / samples
     w = np.linalg.norm(V0[T0] - V0[np.roll(T0, 1, axis=1)], axis=2).max()
     assert abs(volume(V, T) - volume(V0, T0)) <= 2 * np.pi * gap * (delta ** 2 / 8
@@ -218,9 +247,10 @@ def test_a_mesh_of_many_blocks_is_cut_on_every_core_as_on_one(monkeypatch):
 
 def test_uncut_rows_kept_and_pieces_split_along_the_shorter_diagonal():
     """A triangle crossing no plane keeps its row; each one crossing one plane (no corner
-    on it) gives its lone corner's triangle and a quadrilateral on the other side, split
-    along the shorter of its two diagonals in the input, whichever side of the plane the
-    quadrilateral lies on (the lengths measured here on the untwisted result)."""
+    on it) gives its lone corner's triangle and a quadrilateral on the other side: four
+    triangles about a centre where the twist takes it out of its plane, else two; not
+    twisted, split along the shorter of its two diagonals, whichever side of the plane
+    the quadrilateral lies on."""
     rng = np.random.default_rng(7)
     n, origin, gap, samples = np.array([1.0, 0, 0]), np.zeros(3), 3.0, 3
     V0, T0 = [], []
@@ -230,35 +260,45 @@ def test_uncut_rows_kept_and_pieces_split_along_the_shorter_diagonal():
         V0.extend(P)
         T0.append([3 * k, 3 * k + 1, 3 * k + 2])
     V0, T0 = np.array(V0), np.array(T0)
-    _, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.9,
-                                                            [0, 450.0, 0]), samples)
-    V, _ = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.0), samples)
+    V, flat = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, 0.0), samples)
     cells = np.floor(V0[T0, 0] * samples / gap)
     uncut = cells.min(axis=1) == cells.max(axis=1)
-    np.testing.assert_array_equal(T[:len(T0)][uncut], T0[uncut])
     one = (cells.max(axis=1) - cells.min(axis=1) == 1) & (cells.max(axis=1) <= samples) & (
         cells.max(axis=1) >= 0)
-    parent = np.full(len(V), -1)
-    parent[:len(V0)] = np.arange(len(V0)) // 3
-    for x in T:                               # a cut point belongs to its piece's triangle
-        known = parent[x][parent[x] >= 0]
-        parent[x[parent[x] < 0]] = known[0]
-    of = parent[T].max(axis=1)
-    checked = 0
-    for t in np.flatnonzero(one & ~uncut):
-        mine = [set(x) for x in T[of == t]]
-        assert len(mine) == 3
-        c = cells[t]
-        lone = T0[t][np.flatnonzero(c != np.median(c))[0]]  # the corner alone on its side
-        quad = [x for x in mine if lone not in x]
-        assert len(quad) == 2
-        diagonal = quad[0] & quad[1]
-        across = (quad[0] | quad[1]) - diagonal
-        assert len(diagonal) == 2 and len(across) == 2
-        length = [np.linalg.norm(np.subtract(*V[sorted(e)])) for e in (diagonal, across)]
-        assert length[0] <= length[1]
-        checked += 1
-    assert checked > 40
+    checked = [0, 0]
+    for angle in (0.9, 0.0):                  # twisted (most get a centre), then flat
+        _, T = map_between(V0, T0, origin, n, gap, twist_motion(origin, n, gap, angle,
+                                                                [0, 450.0, 0]), samples)
+        np.testing.assert_array_equal(T[:len(T0)][uncut], T0[uncut])
+        parent = np.full(max(len(V), T.max() + 1), -1)
+        parent[:len(V0)] = np.arange(len(V0)) // 3
+        while (parent[T] < 0).any():          # a new vertex belongs to its piece's triangle
+            for x in T:
+                known = parent[x][parent[x] >= 0]
+                if len(known):
+                    parent[x[parent[x] < 0]] = known[0]
+        of = parent[T].max(axis=1)
+        for t in np.flatnonzero(one & ~uncut):
+            mine = [set(x) for x in T[of == t]]
+            c = cells[t]
+            lone = T0[t][np.flatnonzero(c != np.median(c))[0]]  # the corner alone on its side
+            quad = [x for x in mine if lone not in x]
+            centre = set().union(*mine) - set(range(len(V)))
+            if centre:                        # four triangles about the one new vertex
+                assert len(mine) == 5 and len(quad) == 4 and len(centre) == 1
+                assert all(centre <= x for x in quad)
+                checked[1] += 1
+                continue
+            assert len(mine) == 3 and len(quad) == 2
+            diagonal = quad[0] & quad[1]
+            across = (quad[0] | quad[1]) - diagonal
+            assert len(diagonal) == 2 and len(across) == 2
+            if angle == 0.0:                  # (flat to 1e-9 when twisted: any diagonal)
+                length = [np.linalg.norm(np.subtract(*V[sorted(e)])) for e in (diagonal,
+                                                                                across)]
+                assert length[0] <= length[1]
+                checked[0] += 1
+    assert min(checked) > 40
 
 
 @settings(max_examples=60, deadline=None)
@@ -394,3 +434,36 @@ def test_an_error_in_one_range_waits_for_the_others(monkeypatch):
     with pytest.raises(ValueError):
         blocks.in_parallel(fn, 8 * blocks.BLOCK)
     assert ended == [0]
+
+
+def rod(r, length, k):
+    """A closed k-sided rod along z: its sides two long triangles each, end to end, and a
+    fan at each end."""
+    a = 2 * np.pi * np.arange(k) / k
+    ring = np.c_[r * np.cos(a), r * np.sin(a)]
+    V = np.r_[np.c_[ring, np.zeros(k)], np.c_[ring, np.full(k, length)], [[0, 0, 0],
+                                                                          [0, 0, length]]]
+    i = np.arange(k)
+    j = (i + 1) % k
+    T = np.r_[np.c_[i, j, k + j], np.c_[i, k + j, k + i], np.c_[np.full(k, 2 * k), j, i],
+              np.c_[np.full(k, 2 * k + 1), k + i, k + j]]
+    return V, T if volume(V, T) > 0 else T[:, ::-1]
+
+
+def test_long_facets_twisted_across_keep_the_volume_to_second_order():
+    """A 24-sided rod 2.54 x 61 twisted 30 deg over 0.508 across it (Plane across y, the
+    axis along y through its middle): its sides are long facets, and each quadrilateral a
+    facet leaves between two planes is twisted out of its plane. Split along a diagonal,
+    they cut the same side every slab: -3.8 / -1.0 / -0.25 % of the slab at Samples 16 /
+    64 / 256 (first order). With a centre each: +0.30 / +0.019 / +0.0012 %."""
+    V0, T0 = rod(2.54, 60.96, 24)
+    n, origin, gap = np.array([0, 1.0, 0]), np.zeros(3), 0.508
+    slab = 2 * 2.54 * 60.96 * gap
+    change = []
+    for samples in (16, 64):
+        V, T = twisted(V0, T0, origin, n, gap, np.radians(30), samples, [0, 0, 30.48])
+        assert_closed_manifold(V, T, min_area=0.0)
+        counted_with_centres(V0, T0, V, T, origin, n, gap, samples)
+        change.append((volume(V, T) - volume(V0, T0)) / slab)
+    assert abs(change[0]) < 4e-3
+    assert abs(change[1]) < abs(change[0]) / 10          # second order: 1/16

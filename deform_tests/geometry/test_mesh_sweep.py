@@ -229,6 +229,11 @@ def test_twist_square_prism(samples):
     np.testing.assert_array_equal(V[:len(V0)][near], V0[near])           # bit-identical, in place
     np.testing.assert_allclose(V[:len(V0)][far], turned(V0[far], [0, 0, 0], Z, angle),
                                atol=1e-12)
+    # the twisted walls' quadrilaterals get centres (check_centres); the other vertices ...
+    first = oracles.centres_from(V, V0, [0, 0, Z1], Z, Z2 - Z1, samples)
+    assert first < len(V)
+    oracles.check_centres(V, T, first, 1e-12)
+    V = V[:first]
     np.testing.assert_array_equal(np.unique(np.round(V[:, 2], 12)),      # heights kept
                                   np.unique(np.round(np.r_[V0[:, 2], Z1 + (Z2 - Z1) *
                                                            np.arange(samples + 1) / samples], 12)))

@@ -135,3 +135,29 @@ def tet_volumes(X, conn):
     p = np.asarray(X, float)[conn]
     return np.einsum("ij,ij->i", p[:, 1] - p[:, 0],
                      np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6
+
+
+def centres_from(V, V0, origin, n, gap, samples):
+    """Where the quadrilaterals' centre vertices start in a slab cut's result: its new
+    vertices are the cut points (each on a plane) and then the centres (each off every
+    plane); checks that order and returns the first centre's index."""
+    level = (V[len(V0):] - origin) @ n * samples / gap
+    on = np.abs(level - np.round(level)) < 1e-9 * max(1.0, samples)
+    k = int(on.sum())
+    assert on[:k].all() and not on[k:].any()
+    return len(V0) + k
+
+
+def check_centres(V, T, first, atol):
+    """Each vertex from `first` on is a quadrilateral's centre: in exactly four triangles,
+    the only new vertex of each, at the mean of its four neighbours."""
+    rows = T[(T >= first).any(axis=1)]
+    if first == len(V):
+        return
+    assert ((rows >= first).sum(axis=1) == 1).all()
+    c = rows.max(axis=1)
+    order = np.argsort(c, kind="stable")
+    rows, c = rows[order], c[order]
+    np.testing.assert_array_equal(np.bincount(c - first, minlength=len(V) - first), 4)
+    ring = rows[rows < first].reshape(-1, 8)      # each neighbour twice
+    np.testing.assert_allclose(V[c[::4]], V[ring].mean(axis=1), atol=atol)

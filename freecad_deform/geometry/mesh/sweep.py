@@ -223,15 +223,14 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     whose every piece went with them stays among the vertices, unused). A triangle
     crossing k planes becomes 2k + 1 triangles (2k when its middle vertex lies on a plane):
     sorted by level, its vertices a <= b <= c, the chain a -> c on one side and a -> b -> c
-    on the other are zipped from a to c, each quadrilateral between two planes split along
-    its shorter diagonal in the input (a triangle crossing one plane, most of them, gets
-    its pieces directly: _one_plane). Measured in the input, the split does not depend on
-    the motion: in the moved mesh a twisted quadrilateral's shorter diagonal lies on one
-    side of the twisted surface, and a coarse mesh then gained up to 7e-3 of A x gap in
-    volume. The cost is linear in the output (no triangle is cut twice). Original vertices
-    keep their indices, new ones are appended;
-    orientation is kept; a triangle crossing no plane keeps its row, the rows of the cut
-    ones hold pieces (of any cut triangle) and the other pieces follow the input's rows.
+    on the other are zipped from a to c (a triangle crossing one plane, most of them, gets
+    its pieces directly: _one_plane), leaving a quadrilateral between each two planes. One
+    the motion takes out of its plane (by more than eps) gets a centre vertex and four
+    triangles (2 more: _fanned); the others are split along their shorter diagonal in the
+    input. The cost is linear in the output (no triangle is cut twice). Original vertices
+    keep their indices, the cut points and then the centres are appended; orientation is
+    kept; a triangle crossing no plane keeps its row, the rows of the cut ones hold pieces
+    (of any cut triangle) and the other pieces follow the input's rows.
     Each block of vertices is moved while it is in the cache, right after it is classified:
     the cut points are made from the input's vertices (snapped), then moved.
     Large rows are gathered with take: fancy or boolean indexing of rows is 3 to 10x slower.
@@ -246,7 +245,7 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
         raise DeformError("Plane's position or normal is not a finite number (NaN or "
                           "infinity); set Plane to finite numbers.", "Plane")
     levels = _Levels(o, ns, gap, samples, eps, min(N, PASS_ROWS))
-    # per vertex, PASS_ROWS at a time (in the cache), in one pass: its level u and cell between
+    # per vertex, PASS_ROWS at a time (in the L3 cache), in one pass: its level u and cell between
     # planes (snapped within eps of a plane), its fraction and its moved place; W gets room
     # for the cut points too (grown below when a cut makes more). A vertex that is not
     # finite makes a level that is not (refused before its cell is cast), unless it is in a
@@ -311,8 +310,7 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     maybe = [m for part in in_parallel(scan, M) for m in part]
     cell = None                               # (freed)
     maybe = np.concatenate(maybe) if maybe else np.empty(0, np.int64)
-    W, new, rows = _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps,
-                        motion_of_s)
+    W, new, rows = _cut(V, T, W, u, maybe, levels, room, gap, samples, eps, motion_of_s)
     u = maybe = None                          # (freed before the result is allocated)
     if new is None:
         return W, T.copy()
@@ -331,26 +329,84 @@ def slab_cut(V, T, o, n, gap, samples, eps, motion_of_s=None):
     return W, out
 
 
-def _cut(V, T, W, u, maybe, levels, room, o, n, gap, samples, eps, motion_of_s):
+def _cut(V, T, W, u, maybe, levels, room, gap, samples, eps, motion_of_s):
     """slab_cut's cut of the triangles `maybe` (those with corners in different cells):
-    the cut points, moved, written to W after its N vertices (W grown when it has no room
-    for them), and the pieces. Returns (W, pieces or None when no triangle crosses a plane,
-    the rows of T that were cut). In steps of their own (_crossed, _cut_points, _pieces),
-    each step's temporaries freed when it ends (this did not spare the benchmark's
-    process its page faults: see benchmarks/README.md, stop 16)."""
+    the cut points, moved, and the quadrilaterals' centres written to W after its N
+    vertices (W grown when it has no room for them), and the pieces. Returns (W, pieces or
+    None when no triangle crosses a plane, the rows of T that were cut). In steps of their
+    own (_crossed, _cut_points, _pieces, _fanned), each step's temporaries freed when it
+    ends."""
     N = len(V)
     rows, a, b, c, odd, ub, uc, planes = _crossed(T, u, maybe, samples)
     if not len(rows):
         return W[:N], None, rows
-    P, unmoved, point, e, merged = _cut_points(V, levels, a, b, c, ub, planes, o, n, gap,
-                                               samples, eps, motion_of_s)
-    K = len(P)
-    W = np.concatenate([W[:N], P]) if N + K > room else W[:N + K]
-    W[N:] = P
-    del P
-
-    new = without_flat(_pieces(_Input(V, unmoved), point, a, b, c, ub, uc, odd, planes, e))
+    P, point, e, merged = _cut_points(V, levels, a, b, c, ub, planes, gap, samples, eps,
+                                      motion_of_s)
+    tris, quads = _pieces(point, a, b, c, ub, uc, odd, planes, e)
+    fans, centres, across = _fanned(quads, _Places(W[:N], P), motion_of_s, eps)
+    K, F = len(P), len(centres)
+    W = np.concatenate([W[:N], P, centres]) if N + K + F > room else W[:N + K + F]
+    W[N:N + K] = P
+    W[N + K:] = centres
+    del P, centres
+    new = without_flat(np.concatenate([tris, _split(fans, across, quads, N + K)]))
     return W, _without_fins(new, N + merged, len(W)) if len(merged) else new, rows
+
+
+def _fanned(quads, moved, motion_of_s, eps):
+    """Which quadrilaterals (m, 4) get a centre vertex, those centres, and how the others
+    are split. Between two planes a quadrilateral's corners turn by different angles, so
+    it is no longer flat; split along either diagonal it lies on one side of the turned
+    surface, the same side slab after slab (the diagonal shorter in the input lost 2.6 % of
+    the slab on a coarse cylinder twisted across its length at Samples 16, first order in
+    the turn per slab; the one shorter in the moved mesh gained as much). The four
+    triangles about the mean of its moved corners lie between the two splits, and the
+    errors of the two cancel to first order; the centre lies inside the corners' hull,
+    where the splits do (placing it on the exact turned surface instead made the thin
+    walls of a coarse C section cross). Only quadrilaterals whose moved corner 3 lies
+    farther than eps from the plane of the others get one (a quarter of them on a fine
+    mesh); the others, flat to eps, are split along their shorter diagonal, 1-3 where
+    `across` (a diagonal of no length where a corner repeats: merged cut points, or b on
+    the plane). Without a motion (a caller that moves the vertices itself: the mesh
+    Taper), none get a centre and the diagonals are measured as the corners stand.
+    moved: the vertices k (k, 3) where the motion takes them. Returns (fan, centres,
+    across)."""
+    distinct = (quads[:, 0] != quads[:, 1]) & (quads[:, 1] != quads[:, 2]) & (
+        quads[:, 2] != quads[:, 3]) & (quads[:, 3] != quads[:, 0])
+    at = np.flatnonzero(distinct)
+    c = _corners(moved, quads.take(at, axis=0))
+    d1, d2, d3 = c[:, 1] - c[:, 0], c[:, 2] - c[:, 0], c[:, 3] - c[:, 0]
+    fan = np.zeros(len(quads), bool)
+    if motion_of_s is not None:
+        normal = [d1[i] * d2[j] - d1[j] * d2[i] for i, j in ((1, 2), (2, 0), (0, 1))]
+        off = np.abs(normal[0] * d3[0] + normal[1] * d3[1] + normal[2] * d3[2])
+        fan[at] = off > eps * np.sqrt(normal[0] ** 2 + normal[1] ** 2 + normal[2] ** 2)
+    across = quads[:, 1] == quads[:, 3]
+    d3 -= d1                                  # the diagonal 1-3 (0-2 is d2)
+    across[at] = (d3 * d3).sum(axis=0) < (d2 * d2).sum(axis=0)
+    centres = c.take(np.flatnonzero(fan[at]), axis=2).sum(axis=1).T * 0.25
+    return fan, centres, across
+
+
+def _corners(place, quads):
+    """The corners of quadrilaterals (m, 4), placed: (3, 4, m), coordinate by corner by
+    quadrilateral (rows of one coordinate and corner are contiguous), from one gather."""
+    return np.ascontiguousarray(place(quads.reshape(-1)).reshape(-1, 4, 3).transpose(2, 1, 0))
+
+
+def _split(fan, across, quads, first):
+    """The triangles of the quadrilaterals: four about each centre (vertices first,
+    first + 1, ... in the order of the quadrilaterals with `fan`), two along the diagonal
+    0-2 or, where `across`, 1-3 for the others."""
+    with_centre = quads.take(np.flatnonzero(fan), axis=0)
+    fans = np.empty((len(with_centre), 4, 3), np.int64)
+    fans[:, :, 0] = with_centre
+    fans[:, :, 1] = with_centre.take([1, 2, 3, 0], axis=1)
+    fans[:, :, 2] = np.arange(first, first + len(with_centre))[:, None]
+    rest = quads.take(np.flatnonzero(~fan), axis=0)
+    turn = np.flatnonzero(across.take(np.flatnonzero(~fan)))
+    rest[turn] = rest.take(turn, axis=0).take([1, 2, 3, 0], axis=1)
+    return np.concatenate([fans.reshape(-1, 3), rest[:, :3], rest[:, [0, 2, 3]]])
 
 
 def _without_fins(new, merged, size):
@@ -409,13 +465,13 @@ def _crossed(T, u, maybe, samples):
     return maybe.take(hit), a, b, c, odd.take(hit), ub, uc, planes
 
 
-def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_of_s):
+def _cut_points(V, levels, a, b, c, ub, planes, gap, samples, eps, motion_of_s):
     """One new vertex per (edge, plane) for the edges that cross one (keyed by their sorted
     vertex indices), those joined by a section segment shorter than eps merged, moved by
-    the motion at their plane's fraction. Returns (the points (K, 3), the same not moved,
-    point(e, plane): the vertex of edge e's point on that plane (N + its row), the edge
-    numbers (e_ab, e_bc, e_ac) of the triangles, -1 where an edge crosses none, the rows
-    of the points that several were merged into)."""
+    the motion at their plane's fraction. Returns (the points (K, 3), point(e, plane): the
+    vertex of edge e's point on that plane (N + its row), the edge numbers (e_ab, e_bc,
+    e_ac) of the triangles, -1 where an edge crosses none, the rows of the points that
+    several were merged into)."""
     f_ab, n_ab, f_bc, n_bc, f_ac, n_ac = planes
     N = len(V)
     lo = np.concatenate([a, b, a])
@@ -466,13 +522,13 @@ def _cut_points(V, levels, a, b, c, ub, planes, o, n, gap, samples, eps, motion_
     def point(e, jj):
         return N + label.take(raw(e, jj))
 
-    return P, unmoved, point, (e_ab, e_bc, e_ac), np.flatnonzero(np.bincount(label) > 1)
+    return P, point, (e_ab, e_bc, e_ac), np.flatnonzero(np.bincount(label) > 1)
 
 
-def _pieces(place, point, a, b, c, ub, uc, odd, planes, e):
-    """The pieces of the cut triangles: those of the triangles crossing one plane (most),
-    written directly (_one_plane), then the others', by zipping their two chains
-    (_zipped)."""
+def _pieces(point, a, b, c, ub, uc, odd, planes, e):
+    """The pieces of the cut triangles, (triangles (k, 3), quadrilaterals (m, 4)): those of
+    the triangles crossing one plane (most), written directly (_one_plane), then the
+    others', by zipping their two chains (_zipped)."""
     f_ab, n_ab, f_bc, n_bc, f_ac, n_ac = planes
     e_ab, e_bc, e_ac = e
     one = n_ac == 1
@@ -484,13 +540,13 @@ def _pieces(place, point, a, b, c, ub, uc, odd, planes, e):
     bc = np.flatnonzero(lower)
     q[ab] = point(e_ab.take(t1.take(ab)), j.take(ab))
     q[bc] = point(e_bc.take(t1.take(bc)), j.take(bc))
-    new = _one_plane(place, a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j),
-                     lower, odd.take(t1))
+    lone, quads = _one_plane(a.take(t1), b.take(t1), c.take(t1), q, point(e_ac.take(t1), j),
+                             lower, odd.take(t1))
     if not len(tz):
-        return new
-    return np.concatenate([new, _zipped(place, point, *(
-        x.take(tz) for x in (a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab,
-                             e_bc, e_ac)))])
+        return lone, quads
+    more, quads_z = _zipped(point, *(x.take(tz) for x in (
+        a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab, e_bc, e_ac)))
+    return np.concatenate([lone, more]), np.concatenate([quads, quads_z])
 
 
 class _Levels:
@@ -569,13 +625,12 @@ def _clip(x, bounds):
     return np.minimum(x, high, out=x)
 
 
-def _zipped(place, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab, e_bc,
-            e_ac):
-    """The pieces (E, 3) of triangles crossing planes, each triangle's (a, b, c: its corners
-    sorted by level ub, uc; odd: that order reverses it) in turn, flat ones included: its two
+def _zipped(point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_ac, e_ab, e_bc, e_ac):
+    """The pieces of triangles crossing planes, each triangle's (a, b, c: its corners sorted
+    by level ub, uc; odd: that order reverses it) in turn, flat ones included: its two
     chains a -> c and a -> b -> c (f_*, n_*: the first plane and count each edge crosses;
-    e_*: the edge's number for point(e, plane), its cut point's vertex) zipped from a to c;
-    place(vertices): where the input has them, for the diagonals.
+    e_*: the edge's number for point(e, plane), its cut point's vertex) zipped from a to c.
+    Returns (triangles (k, 3), quadrilaterals (m, 4)), in the triangles' orientation.
     """
     # the events of each triangle (the vertices of its two chains after a) in level order,
     # ties put the long chain (a -> c) first
@@ -630,53 +685,39 @@ def _zipped(place, point, a, b, c, ub, uc, odd, f_ab, n_ab, f_bc, n_bc, f_ac, n_
                              vert.take(np.maximum(last_short[:-1], 0)), at_a[1:])
     new[:, 2] = vert
     # a long event followed by a short one on the same level closes a quadrilateral
-    # (Lp, Sp, Sj, Lj) split along Sp-Lj; take Lp-Sj instead when it is shorter
+    # (Lp, Sp, Sj, Lj): its two rows leave the triangles for the quadrilaterals
     x = np.flatnonzero(long[:-1] & ~long[1:] & (tri[:-1] == tri[1:]) & (lvl[:-1] == lvl[1:]))
-    Lp, Sp, Lj, Sj = cur_long.take(x), cur_short.take(x), vert.take(x), vert.take(x + 1)
-    flip = _length(place, Lp, Sj) < _length(place, Sp, Lj)
-    x, Lp, Sp, Lj, Sj = x[flip], Lp[flip], Sp[flip], Lj[flip], Sj[flip]
-    new[x] = np.stack([Lp, Sp, Sj], 1)
-    new[x + 1] = np.stack([Lp, Sj, Lj], 1)
+    quads = np.stack([cur_long.take(x), cur_short.take(x), vert.take(x + 1), vert.take(x)], 1)
+    flip = odd.take(tri.take(x))
+    quads[flip] = quads.take(np.flatnonzero(flip), axis=0)[:, ::-1]
     rev = np.flatnonzero(odd.take(tri))
     new[rev] = new.take(rev, axis=0)[:, ::-1]
-    return new
+    return np.delete(new, np.concatenate([x, x + 1]), axis=0), quads
 
 
-def _one_plane(place, a, b, c, q, p, lower, odd):
-    """The pieces (3k, 3) of k triangles crossing one plane, three each (some flat):
-    corners a, b, c sorted by level; p the cut point on a -> c, q the short chain's point
-    on the plane (on b -> c when b is `lower` than it, else on a -> b, or b itself). The
-    lone corner's triangle, and the quadrilateral on the other side split along its
-    shorter diagonal in the input (place: a-q or b-p below, p-b or q-c above); reversed
-    where `odd`. The
-    corners come from a table of the 8 cases (_ONE_PLANE), in one gather."""
-    V = place.V
-    A, B, C, P = V.take(a, axis=0), V.take(b, axis=0), V.take(c, axis=0), place.cut(p)
-    Q = place.cut(np.maximum(q, place.N))     # (q is b itself where b is on the plane)
-    on = np.flatnonzero(q < place.N)
-    Q[on] = B.take(on, axis=0)
-    bp = _distance(P, B)                      # b-p is a diagonal below and above
-    first = np.where(lower, _distance(A, Q) < bp, bp < _distance(Q, C))
-    case = (lower.view(np.int8) * 4 + first.view(np.int8) * 2 + odd.view(np.int8))
+def _one_plane(a, b, c, q, p, lower, odd):
+    """The pieces of k triangles crossing one plane: corners a, b, c sorted by level; p the
+    cut point on a -> c, q the short chain's point on the plane (on b -> c when b is
+    `lower` than it, else on a -> b, or b itself). Returns the lone corner's triangles
+    (k, 3) and the quadrilaterals on the other side (k, 4), in the triangles' orientation
+    (reversed where `odd`), from a table of the 4 cases (_ONE_PLANE) in one gather."""
     source = np.stack([a, b, c, p, q], axis=1)
-    at = _ONE_PLANE.take(case, axis=0)
+    at = _ONE_PLANE.take(lower.view(np.int8) * 2 + odd.view(np.int8), axis=0)
     at += (5 * np.arange(len(a)))[:, None]
-    return source.reshape(-1).take(at).reshape(-1, 3)
+    pieces = source.reshape(-1).take(at)
+    return pieces[:, :3], pieces[:, 3:]
 
 
 def _one_plane_table():
-    """_one_plane's corners by case lower * 4 + (first diagonal shorter) * 2 + odd, as
-    indices into (a, b, c, p, q). Below (a and b below the plane, c above): (a, b, q),
-    (a, q, p) split along a-q, or (a, b, p), (p, b, q) along b-p; then (p, q, c). Above
-    (a alone below): (a, q, p); then (p, q, b), (p, b, c) along p-b, or (p, q, c),
-    (c, q, b) along q-c."""
+    """_one_plane's corners by case lower * 2 + odd, as indices into (a, b, c, p, q): the
+    lone triangle, then the quadrilateral. Below (a and b below the plane, c above):
+    (p, q, c) and (a, b, q, p); above (a alone below): (a, q, p) and (q, b, c, p)."""
     a, b, c, p, q = range(5)
-    pieces = {(1, 1): [a, b, q, a, q, p, p, q, c], (1, 0): [a, b, p, p, b, q, p, q, c],
-              (0, 1): [a, q, p, p, q, b, p, b, c], (0, 0): [a, q, p, p, q, c, c, q, b]}
-    table = np.empty((8, 9), np.int64)
-    for (lower, first), corners in pieces.items():
-        table[lower * 4 + first * 2] = corners
-        table[lower * 4 + first * 2 + 1] = np.reshape(corners, (3, 3))[:, ::-1].reshape(-1)
+    table = np.empty((4, 7), np.int64)
+    for lower, (lone, quad) in enumerate((((a, q, p), (q, b, c, p)),
+                                          ((p, q, c), (a, b, q, p)))):
+        table[2 * lower] = lone + quad
+        table[2 * lower + 1] = lone[::-1] + quad[::-1]
     return table
 
 
@@ -711,35 +752,19 @@ def _sorted_table():
 _SORTED, _ODD = _sorted_table()
 
 
-class _Input:
-    """Where the input has the vertices of the cut mesh, for the diagonals: V's N rows, then
-    the cut points before they moved."""
+class _Places:
+    """The vertices of the cut mesh by index, before the centres: the N rows of V, then the
+    cut points P."""
 
-    def __init__(self, V, unmoved):
-        self.V, self.unmoved, self.N = V, unmoved, len(V)
+    def __init__(self, V, P):
+        self.V, self.P, self.N = V, P, len(V)
 
     def __call__(self, k):
-        """The vertices k, of either kind."""
+        """The vertices k (k, 3)."""
         at = self.V.take(np.minimum(k, self.N - 1), axis=0)
         cut = np.flatnonzero(k >= self.N)
-        at[cut] = self.unmoved.take(k.take(cut) - self.N, axis=0)
+        at[cut] = self.P.take(k.take(cut) - self.N, axis=0)
         return at
-
-    def cut(self, k):
-        """The vertices k, all cut points."""
-        return self.unmoved.take(k - self.N, axis=0)
-
-
-def _length(place, i, j):
-    """Distances between the vertices i and j, placed by place(indices) -> (k, 3)."""
-    return _distance(place(i), place(j))
-
-
-def _distance(d, e):
-    """The distances between the rows of d and e (k, 3); d is overwritten."""
-    d -= e
-    d *= d
-    return np.sqrt(d[:, 0] + d[:, 1] + d[:, 2])     # (sum(axis=1) is slower on short rows)
 
 
 def _merge_segments(P, segments, eps):
@@ -770,12 +795,13 @@ def _merge_segments(P, segments, eps):
 
 
 def _numbered(keys):
-    """(an index of each distinct key, the number of each key among them), like
-    np.unique(keys, return_index=True, return_inverse=True) without its sort: the keys
-    numbered in the order of those indices. Non-negative int64 keys go through a table 4 to 8 times their count by a multiplicative hash, the last
-    one written to a slot keeping it; the keys that find another key in their slot (about
-    4 % of them) are numbered among themselves by np.unique. 5 to 7x faster than the
-    sort on the edges of cut triangles."""
+    """(an index of each distinct key, the number of each key among them): the keys
+    numbered in the order of those indices, as np.unique(keys, return_inverse=True)
+    numbers them in sorted order, without its sort. Non-negative int64 keys go through a
+    table 4 to 8 times their count by a multiplicative hash, the last one written to a
+    slot keeping it; the keys that find another key in their slot (about 4 % of them) are
+    numbered among themselves by np.unique. 5 to 7x faster than the sort on the edges of
+    cut triangles."""
     m = len(keys)
     bits = max(10, (4 * m - 1).bit_length())
     slot = keys * np.int64(-7046029254386353131)        # (wraps: a hash)
