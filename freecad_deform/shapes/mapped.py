@@ -121,8 +121,9 @@ def _joined_locally(near, cut, far, far_cut, mapped, end, joints, deviation):
     touched = [f for f in keep if meets(f)]
     mine = {f.hashCode() for f in touched}
     reduced, holes = brep._clear_holes_out(touched, meets)
-    try:
-        sewn = brep.sew(reduced + mapped, max(4.0 * deviation, 1e-6))
+    sewn = Part.makeCompound(reduced + mapped)
+    try:       # (no second try on B-splines, brep.sew: a first join, see brep._sewn)
+        sewn.sewShape(max(4.0 * deviation, 1e-6))
     except Part.OCCError:
         return None
     if len(sewn.Faces) != len(reduced) + len(mapped) or \
