@@ -187,9 +187,7 @@ def _slice(solid, normal, d):
     s = np.array([tuple(v.Point) for v in vertices], float).reshape(-1, 3) @ unit - at
     if len(s) and (np.abs(s) > np.array([v.Tolerance for v in vertices]) + brep.TOL).all():
         faces = solid.Faces
-        boxes = np.array([(b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
-                          for b in (f.BoundBox for f in faces)])
-        lo, hi = box_extents(boxes[:, :3], boxes[:, 3:], at * unit, unit)
+        lo, hi = brep.extents(faces, at * unit, unit)
         near = [faces[i] for i in np.flatnonzero((lo <= brep.TOL) & (hi >= -brep.TOL))]
         if near and all(isinstance(f.Surface, Part.Plane) for f in near):
             wires = Part.makeShell(near).slice(n, d)
