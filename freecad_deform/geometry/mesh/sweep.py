@@ -343,12 +343,15 @@ def _cut(V, T, W, u, maybe, levels, room, gap, samples, eps, motion_of_s):
     P, point, e, merged = _cut_points(V, levels, a, b, c, ub, planes, gap, samples, eps,
                                       motion_of_s)
     tris, quads = _pieces(point, a, b, c, ub, uc, odd, planes, e)
-    fans, centres, across = _fanned(quads, _Places(W[:N], P), motion_of_s, eps)
-    K, F = len(P), len(centres)
-    W = np.concatenate([W[:N], P, centres]) if N + K + F > room else W[:N + K + F]
+    K = len(P)
+    if N + K + len(quads) > room:             # (room for a centre in every quadrilateral)
+        W = np.concatenate([W[:N], np.empty((K + len(quads), 3))])
     W[N:N + K] = P
+    del P
+    fans, centres, across = _fanned(quads, W[:N + K], motion_of_s, eps)
+    W = W[:N + K + len(centres)]
     W[N + K:] = centres
-    del P, centres
+    del centres
     new = without_flat(np.concatenate([tris, _split(fans, across, quads, N + K)]))
     return W, _without_fins(new, N + merged, len(W)) if len(merged) else new, rows
 
@@ -369,8 +372,8 @@ def _fanned(quads, moved, motion_of_s, eps):
     `across` (a diagonal of no length where a corner repeats: merged cut points, or b on
     the plane). Without a motion (a caller that moves the vertices itself: the mesh
     Taper), none get a centre and the diagonals are measured as the corners stand.
-    moved: the vertices k (k, 3) where the motion takes them. Returns (fan, centres,
-    across)."""
+    moved: the cut mesh's vertices (N + K, 3) where the motion takes them. Returns (fan,
+    centres, across)."""
     distinct = (quads[:, 0] != quads[:, 1]) & (quads[:, 1] != quads[:, 2]) & (
         quads[:, 2] != quads[:, 3]) & (quads[:, 3] != quads[:, 0])
     at = np.flatnonzero(distinct)
@@ -388,10 +391,12 @@ def _fanned(quads, moved, motion_of_s, eps):
     return fan, centres, across
 
 
-def _corners(place, quads):
-    """The corners of quadrilaterals (m, 4), placed: (3, 4, m), coordinate by corner by
-    quadrilateral (rows of one coordinate and corner are contiguous), from one gather."""
-    return np.ascontiguousarray(place(quads.reshape(-1)).reshape(-1, 4, 3).transpose(2, 1, 0))
+def _corners(W, quads):
+    """The corners of quadrilaterals (m, 4) from the vertices W: (3, 4, m), coordinate by
+    corner by quadrilateral (rows of one coordinate and corner are contiguous), from one
+    gather."""
+    return np.ascontiguousarray(W.take(quads.reshape(-1), axis=0).reshape(-1, 4, 3).transpose(
+        2, 1, 0))
 
 
 def _split(fan, across, quads, first):
@@ -750,21 +755,6 @@ def _sorted_table():
 
 
 _SORTED, _ODD = _sorted_table()
-
-
-class _Places:
-    """The vertices of the cut mesh by index, before the centres: the N rows of V, then the
-    cut points P."""
-
-    def __init__(self, V, P):
-        self.V, self.P, self.N = V, P, len(V)
-
-    def __call__(self, k):
-        """The vertices k (k, 3)."""
-        at = self.V.take(np.minimum(k, self.N - 1), axis=0)
-        cut = np.flatnonzero(k >= self.N)
-        at[cut] = self.P.take(k.take(cut) - self.N, axis=0)
-        return at
 
 
 def _merge_segments(P, segments, eps):
