@@ -82,3 +82,51 @@ def test_direct_push_on_a_face_with_a_short_edge():
         assert len(base.Shape.Edges) == 5 and base.Shape.Area == face.Area   # Base kept
     finally:
         App.closeDocument(doc.Name)
+
+
+def tube():
+    """A tube 72 long, 10.2 and 6 in radius: the shape of a solid of OCCT's CrankArm."""
+    return Part.makeCylinder(10.2, 72).cut(Part.makeCylinder(6, 72)).Solids[0]
+
+
+def passes_bop_check(shape):
+    try:
+        shape.check(True)
+    except ValueError:
+        return False
+    return True
+
+
+@pytest.mark.parametrize("b", [0.3, 0.7])
+def test_a_push_that_folds_the_face_is_refused(b):
+    """A push of a face of a solid that leaves the face intersecting itself (OCCT's BOP
+    check: SelfIntersect, on 7.6 and 7.9 alike), without crossing the other faces, was
+    Up-to-date: the tube's outer face pushed 3 mm out near its seam (u at 95 % of its
+    range), as on OCCT's CrankArm and Pump_TopCover. It must be refused naming Targets,
+    with how far the point can go; a push of 1 mm there stays Up-to-date, passes the check
+    and lands."""
+    doc = fc.new_document("Fold")
+    try:
+        solid = tube()
+        assert passes_bop_check(solid)
+        index = max(range(len(solid.Faces)), key=lambda i: solid.Faces[i].Area)
+        face = solid.Faces[index]
+        u0, u1, v0, v1 = face.ParameterRange
+        u, v = u0 + 0.95 * (u1 - u0), v0 + b * (v1 - v0)
+        point, normal = face.valueAt(u, v), face.normalAt(u, v)
+        base = doc.addObject("Part::Feature", "Tube")
+        base.Shape = solid
+        far = fd.make_direct_push(base, f"Face{index + 1}", point, point + normal * 3.0)
+        doc.recompute()
+        assert "Invalid" in far.State
+        assert "Targets[0]" in far.getStatusString()
+        assert "intersects itself" in far.getStatusString()
+        target = point + normal * 1.0
+        near = fd.make_direct_push(base, f"Face{index + 1}", point, target)
+        doc.recompute()
+        assert near.State == ["Up-to-date"], near.getStatusString()
+        assert passes_bop_check(near.Shape)
+        assert near.Shape.Faces[index].distToShape(Part.Vertex(target))[0] < 1e-6
+        assert base.Shape.Volume == solid.Volume and len(base.Shape.Faces) == 4   # Base kept
+    finally:
+        App.closeDocument(doc.Name)

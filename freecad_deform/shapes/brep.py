@@ -731,6 +731,25 @@ def _settled_at_joints(solid, on_surface):
     return settled(solid, joint_vertices(solid, on_surface))
 
 
+def passes_bop_check(shape):
+    """OCCT's BOP check (Shape.check(True)) of a shape finds nothing (a few tenths of a
+    second on a refit face)."""
+    return not bop_errors(shape)
+
+
+def bop_errors(shape):
+    """The kinds of error OCCT's BOP check finds in a shape ({"SelfIntersect",
+    "GeomAbs_C0", "InvalidCurveOnSurface", ...}; empty when it passes), read from
+    FreeCAD's report ("Error in Face: BOPAlgo SelfIntersect", one line each)."""
+    try:
+        shape.check(True)
+    except ValueError as report:  # FreeCAD's report of the check's findings
+        kinds = {line.split("BOPAlgo", 1)[1].strip(" _") for line in str(report).splitlines()
+                 if "BOPAlgo" in line}
+        return kinds or {"unknown"}
+    return set()
+
+
 def settled(shape, joint=None):
     """`shape`, or a copy of it with the tolerance of each edge (each with a vertex in
     `joint`, hashCodes, when given) raised to twice the gap between its 3D curve and its

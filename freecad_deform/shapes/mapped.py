@@ -548,21 +548,12 @@ def _fitted(face, point_map, tol, smap=None):
             built.reverse()
     else:
         built = face_on_pcurves(new, face, lambda e, forward: forward.curveOnSurface(e))
-    if fold and (built is None or not _passes_bop_check(built)):
+    if fold and (built is None or not brep.passes_bop_check(built)):
         raise FoldsPastPlanes(fold[0])
     if built is None:
         raise DeformError("A mapped face could not be rebuilt on its fitted surface; "
                           "change Tolerance.", "Tolerance")
     return built, fit.deviation
-
-
-def _passes_bop_check(face):
-    """OCCT's BOP check of one face (a few tenths of a second on a refit face)."""
-    try:
-        face.check(True)
-    except ValueError:  # FreeCAD's report of the check's findings
-        return False
-    return True
 
 
 class FoldsPastPlanes(DeformError):
