@@ -306,10 +306,16 @@ def tessellated(shape, tolerance):
 
 
 def moved_mesh(mesh, vertices):
-    """A copy of `mesh` with its points moved to `vertices` (N,3): same facets, same order."""
+    """A copy of `mesh` with its points moved to `vertices` (N,3): same facets, same order.
+
+    setPoint leaves the kernel's bounding box as the copy had it; FreeCAD's grids are
+    built on that box, and its self-intersection test ended the whole process on a mesh
+    with points beyond it (a DimensionDrive lengthening a part). The identity transform
+    recomputes the box (its points stay bit for bit)."""
     result = mesh.copy()
     for i, p in enumerate(np.asarray(vertices, float).tolist()):
         result.setPoint(i, App.Vector(*p))
+    result.transform(App.Matrix())
     return result
 
 
