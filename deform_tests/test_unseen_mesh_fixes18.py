@@ -18,6 +18,7 @@ import MeshPart  # noqa: E402
 import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
+from freecad_deform.geometry.errors import DeformError  # noqa: E402
 
 from .oracles.mesh import assert_closed_manifold  # noqa: E402
 
@@ -76,3 +77,51 @@ class TestDriveBeyondTheBaseBox:
         assert (bb.ZMin, bb.ZMax) == (0.0, 70.0)
         V0, _ = arrays(base.Mesh)
         assert V0[:, 2].max() == 60.0                                   # Base kept
+
+
+def box_cloud(step=0.5, size=(10.0, 6.0, 4.0)):
+    """Points on the surface of the box [0, size] on a grid of `step`."""
+    axes = [np.arange(0.0, s + 1e-9, step) for s in size]
+    grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(3, -1).T
+    return grid[np.any(np.isclose(grid, 0.0) | np.isclose(grid, size), axis=1)]
+
+
+class TestCloudBentBackIntoItself:
+    """PCL's bun0.pcd bent -30 deg about an axis beside it (the far part turning back
+    through the near one): the cloud was accepted, its gap filled inside the fixed part,
+    where the same Bend of its mesh is refused naming Angle. Oracle: the fill points, turned
+    back about the axis, would have to lie beyond Plane; here they lay before it."""
+
+    def setup_method(self):
+        self.doc = fc.new_document("UnseenCloudBend")
+
+    def teardown_method(self):
+        App.closeDocument(self.doc.Name)
+
+    def bend(self, angle, axis_point):
+        import Points
+        base = self.doc.addObject("Points::Feature", "Cloud")
+        base.Points = Points.Points([V(*p) for p in box_cloud()])
+        before = [tuple(p) for p in base.Points.Points]
+        with fc.recorded_errors() as raised:
+            obj = fd.make_bend(base, (V(5, 0, 0), V(1, 0, 0)), angle,
+                               (V(*axis_point), V(0, 0, 1)))
+        assert [tuple(p) for p in base.Points.Points] == before       # Base kept
+        return obj, raised.get(obj.Name)
+
+    def test_bend_toward_the_fixed_part_is_refused(self):
+        # about z through (5, 8, 0), beside the part: +30 turns the far part away from the
+        # near one (its section moves along +x), -30 back into it
+        ok, _ = self.bend(30.0, (5, 8, 0))
+        assert "Invalid" not in ok.State
+        out = np.array([tuple(p) for p in ok.Points.Points])
+        assert (out[:, 0] > 5 - 1e-6).sum() >= (box_cloud()[:, 0] > 5).sum()
+        obj, exc = self.bend(-30.0, (5, 8, 0))
+        assert "Invalid" in obj.State
+        assert isinstance(exc, DeformError) and exc.prop == "Angle" and "Angle" in str(exc)
+
+    def test_axis_across_the_section_is_refused(self):
+        # through the middle of the section (y = 3 of 0..6): half of it turns back
+        obj, exc = self.bend(30.0, (5, 3, 0))
+        assert "Invalid" in obj.State
+        assert isinstance(exc, DeformError) and exc.prop == "Axis" and "Axis" in str(exc)

@@ -40,6 +40,7 @@ def sweep_points(points, origin, normal, motion, step=None, prop="Angle"):
     section = pts[near] - s[near, None] * n
     if len(section) == 0:
         return _moved(pts, far, motion.matrix(1.0), 0)
+    _check_leaves(motion.velocity(section, 0.0) @ n, prop)
     dense = np.linspace(0.0, 1.0, _PATH_SAMPLES)
     path = apply(np.asarray(motion.matrices(dense)), section.mean(axis=0)[None])[:, 0]
     length = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
@@ -57,6 +58,27 @@ def sweep_points(points, origin, normal, motion, step=None, prop="Angle"):
         np.matmul(section, matrix[:3, :3].T, out=layer)
         layer += matrix[:3, 3]
     return out
+
+
+def _check_leaves(vn, prop):
+    """The section must leave Plane toward the moving side (the mesh sweep's rule): a
+    motion that carries section points back into the fixed part fills the gap inside it
+    (a Bend of -30 deg about an axis beside the part was accepted for a cloud and refused
+    for its mesh). `vn`: the section points' velocities along the normal at t = 0; a turn
+    in the plane (all zero) adds no fill and passes."""
+    tol = 1e-9 * max(float(np.abs(vn).max()), 1e-300)
+    if not (vn < -tol).any():
+        return
+    if (vn <= tol).all():
+        raise DeformError("The motion carries the section back into the fixed part instead of "
+                          "away from it; change the sign of Angle (or turn the Plane normal "
+                          "toward the part that moves)." if prop == "Angle" else
+                          f"The motion carries the section back into the fixed part instead "
+                          f"of away from it; change {prop}.", prop)
+    raise DeformError("The axis crosses the section at Plane, so the swept section would "
+                      "fold through the part; move Axis off the section." if prop == "Angle"
+                      else f"The motion turns part of the section back into the fixed part; "
+                      f"change {prop}.", "Axis" if prop == "Angle" else prop)
 
 
 def _moved(pts, far, matrix, extra):
