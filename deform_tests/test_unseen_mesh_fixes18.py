@@ -125,3 +125,34 @@ class TestCloudBentBackIntoItself:
         obj, exc = self.bend(30.0, (5, 3, 0))
         assert "Invalid" in obj.State
         assert isinstance(exc, DeformError) and exc.prop == "Axis" and "Axis" in str(exc)
+
+
+class TestSparseCloudTaper:
+    """trimesh's points_cloudcompare.xyz (101 points over 84 m at UTM coordinates): a Taper
+    with the default axis was refused ('No point lies just beyond Plane') wherever the
+    first tenth of the region held no point, though the region held many. Oracle: a box
+    cloud symmetric about its centre line, so the default axis is that line; the part
+    beyond Plane2 scaled by Scale about it, the part before Plane kept bit for bit."""
+
+    def setup_method(self):
+        self.doc = fc.new_document("UnseenSparseTaper")
+
+    def teardown_method(self):
+        App.closeDocument(self.doc.Name)
+
+    def test_region_without_points_next_to_plane(self):
+        import Points
+        P = box_cloud(step=4.0, size=(40.0, 8.0, 8.0))     # layers at x = 0, 4, ..., 40
+        base = self.doc.addObject("Points::Feature", "Sparse")
+        base.Points = Points.Points([V(*p) for p in P])
+        obj = fd.make_taper(base, (V(9, 0, 0), V(1, 0, 0)), (V(19, 0, 0), V(1, 0, 0)), 0.5)
+        assert "Invalid" not in obj.State, obj.getStatusString()
+        out = np.array([tuple(p) for p in obj.Points.Points])
+        assert len(out) == len(P)
+        centre = np.array([0.0, 4.0, 4.0])
+        before, far = P[:, 0] < 9, P[:, 0] > 19
+        np.testing.assert_array_equal(out[before], P[before])
+        expect = P[far].copy()
+        expect[:, 1:] = centre[1:] + 0.5 * (P[far, 1:] - centre[1:])
+        np.testing.assert_allclose(out[far], expect, atol=1e-5)
+        np.testing.assert_array_equal(np.array([tuple(p) for p in base.Points.Points]), P)

@@ -110,11 +110,15 @@ def taper_map(origin, normal, gap, scale, rows, point, profile="Linear"):
 
 
 def _near_centre(points, origin, normal, gap):
-    """Mean of the cloud points in the first tenth of the region, put on Plane."""
+    """Mean of the cloud points in the first tenth of the region, put on Plane. A sparse
+    cloud with none there (trimesh's points_cloudcompare.xyz: 101 points over 84 m) takes
+    the points of the region within a tenth of it from the nearest one instead."""
     s = (points - origin) @ normal
-    near = points[(s >= 0) & (s <= 0.1 * gap)]
-    if len(near) == 0:
-        raise DeformError("No point lies just beyond Plane; move Plane so it crosses the "
-                          "cloud, or UseAxis.", "Plane")
+    inside = (s >= 0) & (s <= gap)
+    if not inside.any():
+        raise DeformError("No point lies between Plane and Plane2; move Plane so the region "
+                          "between them crosses the cloud, or UseAxis.", "Plane")
+    first = s[inside].min()
+    near = points[inside & (s <= max(first, 0.0) + 0.1 * gap)]
     c = near.mean(axis=0)
     return c - ((c - origin) @ normal) * normal
