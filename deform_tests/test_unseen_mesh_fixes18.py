@@ -156,3 +156,71 @@ class TestSparseCloudTaper:
         expect[:, 1:] = centre[1:] + 0.5 * (P[far, 1:] - centre[1:])
         np.testing.assert_allclose(out[far], expect, atol=1e-5)
         np.testing.assert_array_equal(np.array([tuple(p) for p in base.Points.Points]), P)
+
+
+def box_mesh(lx, ly, lz):
+    """A closed box [-lx/2, lx/2] x [-ly/2, ly/2] x [0, lz] of 12 triangles, each face two
+    triangles from end to end (as CAD exporters write planar faces)."""
+    import Mesh
+    corners = np.array([(x, y, z) for x in (-lx / 2, lx / 2) for y in (-ly / 2, ly / 2)
+                        for z in (0, lz)], float)
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2),
+             (1, 3, 7, 5)]
+    tris = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
+    return Mesh.Mesh([[V(*corners[i]) for i in t] for t in tris])
+
+
+def smooth(f):
+    return f * f * (3 - 2 * f)
+
+
+class TestSmoothTwistOfMeshesAndClouds:
+    """Every Twist in the runs with Profile Smooth on a mesh or cloud came out Linear: the
+    feature passed Profile to the solid op only (Taper honours it for all three). Oracle:
+    a box 20 x 20 x 100 (a cloud of its surface) twisted 90 deg about its centre line
+    between z = 30 and 70: a corner at height z turns by 90 x t((z - 30) / 40),
+    t(f) = 3f^2 - 2f^3, measured as its polar angle; the volume is kept."""
+
+    def setup_method(self):
+        self.doc = fc.new_document("UnseenSmoothTwist")
+
+    def teardown_method(self):
+        App.closeDocument(self.doc.Name)
+
+    def twist(self, base):
+        obj = fd.make_twist(base, (V(0, 0, 30), V(0, 0, 1)), (V(0, 0, 70), V(0, 0, 1)), 90.0,
+                            (V(0, 0, 0), V(0, 0, 1)))
+        obj.Profile = "Smooth"
+        self.doc.recompute()
+        assert "Invalid" not in obj.State, obj.getStatusString()
+        return obj
+
+    def check_corners(self, X):
+        r = np.hypot(X[:, 0], X[:, 1])
+        corner = r > 10 * np.sqrt(2) - 1e-4
+        for z in (35.0, 40.0, 50.0, 60.0, 65.0):
+            at = corner & (np.abs(X[:, 2] - z) < 1e-4)
+            assert at.any()
+            turned = np.degrees(np.arctan2(X[at, 1], X[at, 0]))
+            want = 90 * smooth((z - 30) / 40)
+            off = (turned - 45 - want + 45) % 90 - 45   # any of the four corners
+            np.testing.assert_allclose(off, 0, atol=1e-3)
+
+    def test_mesh(self):
+        base = self.doc.addObject("Mesh::Feature", "Box")
+        base.Mesh = box_mesh(20.0, 20.0, 100.0)
+        obj = self.twist(base)
+        V1, T1 = arrays(obj.Mesh)
+        assert_closed_manifold(V1, T1)
+        self.check_corners(V1)
+        assert abs(obj.Mesh.Volume - 40000.0) < 2e-3 * 20 * 20 * 40
+
+    def test_cloud(self):
+        import Points
+        P = box_cloud(step=1.25, size=(20.0, 20.0, 100.0)) - [10.0, 10.0, 0.0]
+        base = self.doc.addObject("Points::Feature", "Cloud")
+        base.Points = Points.Points([V(*p) for p in P])
+        obj = self.twist(base)
+        out = np.array([tuple(p) for p in obj.Points.Points])
+        assert len(out) == len(P)
+        self.check_corners(out)

@@ -31,9 +31,11 @@ class Twist(DeformFeature):
         ss.check_samples(obj, 2)
         axis = given_axis(obj, normal)
         if base_kind == "Points":
-            return twist.points(obj.Base.Points, origin, normal, gap, angle, axis)
+            return twist.points(obj.Base.Points, origin, normal, gap, angle, axis,
+                                obj.Profile)
         if base_kind == "Mesh":
-            return twist.mesh(obj.Base.Mesh, origin, normal, gap, angle, axis, obj.Samples)
+            return twist.mesh(obj.Base.Mesh, origin, normal, gap, angle, axis, obj.Samples,
+                              obj.Profile)
         return twist.solid(obj.Base.Shape, origin, normal, gap, angle, axis, obj.Samples,
                            obj.Profile, flex.tolerance(obj))
 

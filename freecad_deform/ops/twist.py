@@ -36,27 +36,43 @@ def solid(shape, origin, normal, gap, angle, axis=None, samples=16, profile="Lin
                     **mapped.continuity_report(shape, smap)}
 
 
-def mesh(base, origin, normal, gap, angle, axis=None, samples=16):
-    """(Mesh, {VolumeChange}): the region cut into `samples` slabs, each vertex turned by its
-    fraction of the gap; a slab turned by more than MESH_SLAB_TURN is refused."""
-    if abs(angle) > samples * MESH_SLAB_TURN:
-        raise DeformError(f"Angle turns each of the {samples} Samples slabs by "
-                          f"{np.degrees(abs(angle)) / samples:.4g} deg, more than the 45 deg "
-                          f"their flat triangles can follow; raise Samples to at least "
-                          f"{int(np.ceil(abs(angle) / MESH_SLAB_TURN))} or lower Angle.",
-                          "Samples")
+def profiled(of_s, profile):
+    """The twist motion of the fraction s / gap turned by profile(s) instead of s (the
+    solid's twist_map does the same): a Smooth Twist of a mesh or cloud was Linear."""
+    if profile == "Linear":
+        return of_s
+    space_map.profile_value(profile, 0.0)       # an unknown Profile is refused here
+
+    def motion(frac):
+        return of_s(space_map.profile_value(profile, frac))
+    motion.vectorized = True
+    return motion
+
+
+def mesh(base, origin, normal, gap, angle, axis=None, samples=16, profile="Linear"):
+    """(Mesh, {VolumeChange}): the region cut into `samples` slabs, each vertex turned by
+    profile(its fraction of the gap); a slab turned by more than MESH_SLAB_TURN is
+    refused (Smooth turns its middle slabs 1.5 times the mean)."""
+    steepest = 1.5 if profile == "Smooth" else 1.0    # the profile's largest slope
+    if steepest * abs(angle) > samples * MESH_SLAB_TURN:
+        raise DeformError(f"Angle turns the steepest of the {samples} Samples slabs by "
+                          f"{steepest * np.degrees(abs(angle)) / samples:.4g} deg, more than "
+                          f"the 45 deg their flat triangles can follow; raise Samples to at "
+                          f"least {int(np.ceil(steepest * abs(angle) / MESH_SLAB_TURN))} or "
+                          f"lower Angle.", "Samples")
     v, t = mesh_arrays(base)
     axis = axis or (pp.section_centroid_mesh(base, origin, normal, (v, t)), normal)
-    of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
+    of_s = profiled(mesh_sweep.twist_motion(origin, normal, gap, angle, *axis), profile)
     return pp.mesh_result((v, t), *mesh_sweep.map_between(v, t, origin, normal, gap, of_s,
                                                         samples, mesh_eps(v)))
 
 
-def points(base, origin, normal, gap, angle, axis=None):
-    """(Points, {IgnoredPoints}): each point of the region turned by its fraction of the gap."""
+def points(base, origin, normal, gap, angle, axis=None, profile="Linear"):
+    """(Points, {IgnoredPoints}): each point of the region turned by profile(its fraction
+    of the gap)."""
     pts, ignored = pp.cloud(base)
     axis = axis or (pp.section_centroid_cloud(pts, origin, normal), normal)
-    of_s = mesh_sweep.twist_motion(origin, normal, gap, angle, *axis)
+    of_s = profiled(mesh_sweep.twist_motion(origin, normal, gap, angle, *axis), profile)
     out = points_sweep.map_points_between(pts, origin, normal, gap, of_s)
     return points_from_array(out), ignored
 
