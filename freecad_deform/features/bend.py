@@ -24,8 +24,9 @@ class Bend(DeformFeature):
         if motion is not None:
             return ss.keyed(obj, base_kind, origin, normal, gap, motion)
         if base_kind == "Points":
-            return bend.points(obj.Base.Points, origin, normal, angle, axis, gap)
+            return bend.points(obj.Base.Points, origin, normal, angle, axis, gap, obj.Profile)
         if base_kind == "Mesh":
-            return bend.mesh(obj.Base.Mesh, origin, normal, angle, axis, gap, obj.Samples)
+            return bend.mesh(obj.Base.Mesh, origin, normal, angle, axis, gap, obj.Samples,
+                             obj.Profile)
         return bend.solid(obj.Base.Shape, origin, normal, angle, axis, gap, obj.Samples,
                           obj.Profile, flex.tolerance(obj))

@@ -34,29 +34,58 @@ def solid(shape, origin, normal, angle, axis, gap=None, samples=16, profile="Lin
                     **pp.joint_report(shape, joints)}
 
 
-def _motion(origin, normal, angle, axis, gap):
-    """The screw motion of one plane, or the motion of the fraction s / gap of two."""
+def _motion(origin, normal, angle, axis, gap, profile="Linear", points=None):
+    """The screw motion of one plane, or the motion of the fraction s / gap of two (at
+    profile(s)). A profile other than Linear is first checked not to fold the region
+    (the check the solids' space map makes): the section slides back by gap x t(s) while
+    it turns by angle x t(s), and where t' > 1 a part near the axis (distance r with
+    r |angle| / gap < 1 - 1 / t') slides back faster than it turns."""
     if gap is None:
         return mo.ScrewMotion(mo.rotation(*axis, angle))
-    return mesh_sweep.bend_motion(*axis, angle, origin, normal, gap)
+    of_s = mesh_sweep.bend_motion(*axis, angle, origin, normal, gap)
+    if profile != "Linear" and points is not None and len(points):
+        smap = space_map.bend_map(origin, normal, gap, angle, *axis, profile)
+        smap.check_fold(fold_samples(points, origin, normal, gap, axis), "Profile")
+    return pp.profiled(of_s, profile)
 
 
-def mesh(base, origin, normal, angle, axis, gap=None, samples=16):
+FOLD_LEVELS = 32     # sections of the region the fold check samples
+FOLD_POINTS = 512    # points of each (the nearest to and farthest from the axis among them)
+
+
+def fold_samples(points, origin, normal, gap, axis):
+    """Points of the part's outline moved along the normal to FOLD_LEVELS levels inside the
+    region: the fold depends on the distance to the axis, not on s, so a mesh whose
+    triangles span the region (vertices only at its ends) is sampled too."""
+    P = np.asarray(points, float).reshape(-1, 3)
+    n = np.asarray(normal, float)
+    flat = P - np.outer((P - origin) @ n, n)
+    c, k = np.asarray(axis[0], float), np.asarray(axis[1], float) / np.linalg.norm(axis[1])
+    d = flat - c
+    r = np.linalg.norm(d - np.outer(d @ k, k), axis=1)
+    pick = np.unique(np.r_[np.argmin(r), np.argmax(r), np.random.default_rng(0).choice(
+        len(flat), min(len(flat), FOLD_POINTS), replace=False)])
+    levels = (np.arange(FOLD_LEVELS) + 0.5) / FOLD_LEVELS * gap
+    return (flat[pick][None] + levels[:, None, None] * n).reshape(-1, 3)
+
+
+def mesh(base, origin, normal, angle, axis, gap=None, samples=16, profile="Linear"):
     """(Mesh, {VolumeChange}): the section ring swept through samples + 1 turns (one
-    plane), or the region cut into `samples` slabs and mapped (two planes)."""
-    motion = _motion(origin, normal, angle, axis, gap)
+    plane), or the region cut into `samples` slabs and mapped at profile(s) (two
+    planes)."""
     v, t = mesh_arrays(base)
+    motion = _motion(origin, normal, angle, axis, gap, profile, v)
     return pp.mesh_result((v, t), *(
         mesh_sweep.sweep_mesh(v, t, origin, normal, motion, samples, mesh_eps(v))
         if gap is None else
         mesh_sweep.map_between(v, t, origin, normal, gap, motion, samples, mesh_eps(v))))
 
 
-def points(base, origin, normal, angle, axis, gap=None):
+def points(base, origin, normal, angle, axis, gap=None, profile="Linear"):
     """(Points, {IgnoredPoints}): far points turned, the gap filled (one plane), or each
-    point of the region mapped by its fraction of the gap (two planes)."""
-    motion = _motion(origin, normal, angle, axis, gap)
+    point of the region mapped by profile(its fraction of the gap) (two planes)."""
     pts, ignored = pp.cloud(base)
+    motion = _motion(origin, normal, angle, axis, gap, profile, pts)
     out = (points_sweep.sweep_points(pts, origin, normal, motion) if gap is None else
            points_sweep.map_points_between(pts, origin, normal, gap, motion))
     return points_from_array(out), ignored

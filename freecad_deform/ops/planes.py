@@ -280,3 +280,18 @@ def volume_change(result, shape):
 def constant(vector):
     """A tangent field equal to `vector` everywhere (a translation)."""
     return lambda points: np.broadcast_to(vector, np.shape(points))
+
+
+def profiled(of_s, profile):
+    """The motion of the fraction s / gap of a region (twist_motion, bend_motion) taken at
+    profile(s) instead of s, as the solids' space maps do (space_map.SpaceMap: p ->
+    A(profile(s)) p): a Smooth Twist or two-plane Bend of a mesh or cloud was Linear."""
+    from ..geometry.sweep import space_map
+    if profile == "Linear":
+        return of_s
+    space_map.profile_value(profile, 0.0)       # an unknown Profile is refused here
+
+    def motion(frac):
+        return of_s(space_map.profile_value(profile, frac))
+    motion.vectorized = True
+    return motion

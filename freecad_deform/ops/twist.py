@@ -36,19 +36,6 @@ def solid(shape, origin, normal, gap, angle, axis=None, samples=16, profile="Lin
                     **mapped.continuity_report(shape, smap)}
 
 
-def profiled(of_s, profile):
-    """The twist motion of the fraction s / gap turned by profile(s) instead of s (the
-    solid's twist_map does the same): a Smooth Twist of a mesh or cloud was Linear."""
-    if profile == "Linear":
-        return of_s
-    space_map.profile_value(profile, 0.0)       # an unknown Profile is refused here
-
-    def motion(frac):
-        return of_s(space_map.profile_value(profile, frac))
-    motion.vectorized = True
-    return motion
-
-
 def mesh(base, origin, normal, gap, angle, axis=None, samples=16, profile="Linear"):
     """(Mesh, {VolumeChange}): the region cut into `samples` slabs, each vertex turned by
     profile(its fraction of the gap); a slab turned by more than MESH_SLAB_TURN is
@@ -62,7 +49,7 @@ def mesh(base, origin, normal, gap, angle, axis=None, samples=16, profile="Linea
                           f"lower Angle.", "Samples")
     v, t = mesh_arrays(base)
     axis = axis or (pp.section_centroid_mesh(base, origin, normal, (v, t)), normal)
-    of_s = profiled(mesh_sweep.twist_motion(origin, normal, gap, angle, *axis), profile)
+    of_s = pp.profiled(mesh_sweep.twist_motion(origin, normal, gap, angle, *axis), profile)
     return pp.mesh_result((v, t), *mesh_sweep.map_between(v, t, origin, normal, gap, of_s,
                                                         samples, mesh_eps(v)))
 
@@ -72,7 +59,7 @@ def points(base, origin, normal, gap, angle, axis=None, profile="Linear"):
     of the gap)."""
     pts, ignored = pp.cloud(base)
     axis = axis or (pp.section_centroid_cloud(pts, origin, normal), normal)
-    of_s = profiled(mesh_sweep.twist_motion(origin, normal, gap, angle, *axis), profile)
+    of_s = pp.profiled(mesh_sweep.twist_motion(origin, normal, gap, angle, *axis), profile)
     out = points_sweep.map_points_between(pts, origin, normal, gap, of_s)
     return points_from_array(out), ignored
 
