@@ -175,6 +175,16 @@ def smooth(f):
     return f * f * (3 - 2 * f)
 
 
+def box_cloud_feature(doc):
+    """A Points::Feature of a 20 x 20 x 100 box's surface sampled every 1.25 mm, centred on
+    the z axis, and its points."""
+    import Points
+    P = box_cloud(step=1.25, size=(20.0, 20.0, 100.0)) - [10.0, 10.0, 0.0]
+    base = doc.addObject("Points::Feature", "Cloud")
+    base.Points = Points.Points([V(*p) for p in P])
+    return base, P
+
+
 class TestSmoothTwistOfMeshesAndClouds:
     """A Twist with Profile Smooth of a mesh or cloud came out Linear: the feature passed
     Profile to the solid op only (Taper honours it for all three). Oracle:
@@ -217,10 +227,7 @@ class TestSmoothTwistOfMeshesAndClouds:
         assert abs(obj.Mesh.Volume - 40000.0) < 2e-3 * 20 * 20 * 40
 
     def test_cloud(self):
-        import Points
-        P = box_cloud(step=1.25, size=(20.0, 20.0, 100.0)) - [10.0, 10.0, 0.0]
-        base = self.doc.addObject("Points::Feature", "Cloud")
-        base.Points = Points.Points([V(*p) for p in P])
+        base, P = box_cloud_feature(self.doc)
         obj = self.twist(base)
         out = np.array([tuple(p) for p in obj.Points.Points])
         assert len(out) == len(P)
@@ -272,10 +279,7 @@ class TestSmoothBendOfMeshesAndClouds:
             assert got.max() < 1e-4, (i, got)
 
     def test_cloud(self):
-        import Points
-        P = box_cloud(step=1.25, size=(20.0, 20.0, 100.0)) - [10.0, 10.0, 0.0]
-        base = self.doc.addObject("Points::Feature", "Cloud")
-        base.Points = Points.Points([V(*p) for p in P])
+        base, P = box_cloud_feature(self.doc)
         obj = self.bend(base)
         out = np.array([tuple(p) for p in obj.Points.Points])
         assert len(out) == len(P)
