@@ -727,8 +727,10 @@ def kept_tolerances(shape, faces, before, joint):
 
 def _settled_at_joints(solid, on_surface):
     """The solid with the tolerance of each edge reaching a joint raised to twice the gap
-    between its 3D curve and its pcurves, on a copy when one must rise (settled)."""
-    return settled(solid, joint_vertices(solid, on_surface))
+    between its 3D curve and its pcurves, on a copy when one must rise (settled), and
+    raised where two faces touch tangentially at a joint vertex (tangent_touches_settled)."""
+    return tangent_touches_settled(settled(solid, joint_vertices(solid, on_surface)),
+                                   on_surface, edges=False)
 
 
 def passes_bop_check(shape):
@@ -1096,3 +1098,155 @@ def joint_normals(face, edges, samples=7):
             points.append(tuple(p))
             normals.append(tuple(surface.normal(*surface.parameter(p))))
     return np.array(points, float), np.array(normals, float)
+
+
+# the largest angle (radians) between two faces' normals at a point where OCCT's BOP check
+# may find them crossing: along an edge they share (where the angle passes through zero),
+# or at a vertex they alone share (OCCT's Pump_TopCover stretched twice: 7.6 deg; its
+# intersection there spreads as the deviation / sin(angle))
+TOUCH_ANGLE = 1e-3
+VERTEX_ANGLE = 0.25
+# the most a join raises a tolerance where two faces touch tangentially (tangent_touches)
+TOUCH_CAP = 1e-3
+
+
+def tangent_touches_settled(solid, on_surface, cap=TOUCH_CAP, prop=None, edges=True):
+    """`solid`, or a copy with tolerances raised at the joints where two faces touch
+    tangentially and OCCT's BOP check finds them crossing there (SelfIntersect):
+    - two faces that share a joint vertex but no edge, tangent or nearly so there (normals
+      within VERTEX_ANGLE): a mapped face continuing the surface of a rigid one diagonally
+      across the vertex (a sphere split at its seam, twisted about its centre: both faces
+      on the sphere, the mapped one fitted to it within 1e-7), or a stretch's swept side
+      and a far sphere face at 7.6 deg to it (OCCT's Pump_TopCover stretched twice);
+    - with `edges`, two that share a joint edge along which the angle between them passes
+      through zero (a sphere twisted about an axis off its centre meets its rigid part with
+      a kink that turns over at one point of the joint: Pump_TopCover twisted at 50 %).
+    Near a tangency the intersection of the two surfaces spreads far beyond the edges'
+    tolerances (to 5.8e-4 mm on a dome of radius 100). The edges of the two faces at the
+    vertex, or the shared edge, and their vertices are raised ten-fold at a time up to
+    `cap` until OCCT's check of those two faces finds no self-intersection (a few tenths
+    of a second a check, only where faces touch so). Past `cap`: a DeformError naming
+    `prop`, or, without `prop`, the solid as it is."""
+    joint = joint_vertices(solid, on_surface)
+    if not joint:
+        return solid
+    around = {}
+    for k, face in enumerate(solid.Faces):
+        for v in face.Vertexes:
+            if v.hashCode() in joint:
+                around.setdefault(v.hashCode(), set()).add(k)
+    vindex = {v.hashCode(): k for k, v in enumerate(solid.Vertexes)}
+    eindex = {e.hashCode(): k for k, e in enumerate(solid.Edges)}
+    meets = touching(joint)
+    faces, seen, out = solid.Faces, set(), None
+    for h, ks in around.items():
+        ks = sorted(ks)
+        vertex = solid.Vertexes[vindex[h]]
+        for i, a in enumerate(ks):
+            for b in ks[i + 1:]:
+                fa, fb = faces[a], faces[b]
+                shared = [e for e in fa.Edges if not e.Degenerated
+                          and any(e.isSame(g) for g in fb.Edges)]
+                if shared:
+                    if not edges or (a, b) in seen:
+                        continue
+                    seen.add((a, b))
+                    turned = [e for e in shared if meets(e) and _turns_over(fa, fb, e)]
+                    if not turned:
+                        continue
+                    e = turned[0]
+                    where = e.valueAt(0.5 * (e.FirstParameter + e.LastParameter))
+                    subs = [("Edges", eindex[e.hashCode()]) for e in turned] + [
+                        ("Vertexes", vindex[v.hashCode()]) for e in turned for v in e.Vertexes]
+                else:
+                    if not _tangent_at_vertex(fa, fb, vertex):
+                        continue
+                    where = vertex.Point
+                    at = [e for f in (fa, fb) for e in f.Edges if not e.Degenerated
+                          and any(w.isSame(vertex) for w in e.Vertexes)]
+                    subs = [("Edges", eindex[e.hashCode()]) for e in at] + [
+                        ("Vertexes", vindex[v.hashCode()]) for e in at for v in e.Vertexes]
+                raised = _raised_until_passes(out or solid.copy(), a, b, subs, cap)
+                if raised is None:
+                    if prop is None:
+                        return solid
+                    raise DeformError(
+                        f"Two faces touch tangentially at a joint near ({where.x:.4g}, "
+                        f"{where.y:.4g}, {where.z:.4g}) and cross there by more than {prop} "
+                        f"({cap:.3g} mm) allows; raise {prop}.", prop)
+                out = raised
+    return solid if out is None else out
+
+
+def _raised_until_passes(out, a, b, subs, cap):
+    """`out` with the tolerance of its sub-shapes `subs` ((kind, index)) raised ten-fold at
+    a time until OCCT's BOP check of its faces a and b passes, or None past `cap`."""
+    pair = Part.makeCompound([out.Faces[a], out.Faces[b]])
+    shapes = [getattr(out, kind)[k] for kind, k in dict.fromkeys(subs)]
+    tol = max([s.Tolerance for s in shapes] + [TOL])
+    while not _bop_passes(pair):
+        if tol >= cap:
+            return None
+        tol = min(10.0 * tol, cap)
+        for shape in shapes:  # edges first, then their vertices: never below an edge's
+            shape.limitTolerance(tol)
+    return out
+
+
+def _uv_at(face, edge, t):
+    """The (u, v) of `face`'s surface at parameter t of its `edge` (the edge's pcurve:
+    projecting onto a fitted B-spline costs 9 ms a point), or None."""
+    found = face.curveOnSurface(edge)
+    if found is None:
+        return None
+    q = found[0].value(t)
+    return q.x, q.y
+
+
+def _tangent_at_vertex(fa, fb, vertex):
+    """Are the faces' normals (anti)parallel at their common `vertex`, within VERTEX_ANGLE?
+    Each normal at the end of an edge of that face at the vertex."""
+    normals = []
+    for face in (fa, fb):
+        edge = next((e for e in face.Edges if not e.Degenerated
+                     and any(w.isSame(vertex) for w in e.Vertexes)), None)
+        if edge is None:
+            return False
+        t0, t1 = edge.FirstParameter, edge.LastParameter
+        t = t0 if edge.valueAt(t0).distanceToPoint(vertex.Point) <= edge.valueAt(
+            t1).distanceToPoint(vertex.Point) else t1
+        uv = _uv_at(face, edge, t)
+        if uv is None:
+            return False
+        normals.append(np.array(tuple(face.Surface.normal(*uv))))
+    return np.linalg.norm(np.cross(*normals)) < np.sin(VERTEX_ANGLE)
+
+
+def _turns_over(fa, fb, edge, samples=17):
+    """Does the angle between the faces, measured about their shared `edge`, pass through
+    zero (change sign, or come within TOUCH_ANGLE of it) inside the edge while it is not
+    zero all along it (a tangent joint, as a Smooth profile makes)?"""
+    ts = np.linspace(edge.FirstParameter, edge.LastParameter, samples)[1:-1]
+    normals = []
+    for face in (fa, fb):
+        mine = next(e for e in face.Edges if e.isSame(edge))
+        uvs = [_uv_at(face, mine, t) for t in ts]
+        if any(uv is None for uv in uvs):
+            return False
+        normals.append(np.array([tuple(face.Surface.normal(*uv)) for uv in uvs]))
+    tangents = np.array([tuple(edge.tangentAt(t)) for t in ts])
+    signed = np.einsum("ij,ij->i", np.cross(*normals), tangents)
+    if np.all(np.abs(signed) < TOUCH_ANGLE):
+        return False
+    return bool(np.any(np.abs(signed) < TOUCH_ANGLE) or np.any(signed[1:] * signed[:-1] < 0))
+
+
+def _bop_passes(shape):
+    """Does OCCT's BOP check (FreeCAD's Shape.check(True), which raises on its findings)
+    find no self-intersection? Its other findings (a C0 B-spline of the Base: GeomAbs_C0)
+    no tolerance changes."""
+    try:
+        shape.check(True)
+    except ValueError as exc:
+        return "SelfIntersect" not in str(exc)
+    return True
