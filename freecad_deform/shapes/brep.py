@@ -271,13 +271,41 @@ def split_zones(solid, origin, normal, offsets):
     return split_by(solid, tools, lambda p: (p - origin) @ normal, offsets)
 
 
+# the largest tolerance of an edge or vertex, x the solid's size, that a split is given:
+# beyond it a file's tolerance is a mistake (OCCT's data/occ/solid.brep: a hole's exact
+# circle 1.5708 mm, pi / 2, on a 240 mm part)
+LOOSE = 1e-3
+
+
+def tightened(solid):
+    """`solid`, or where an edge or vertex has a tolerance over LOOSE x its size, a copy
+    with those lowered to that when the copy is valid (OCCT's check: the geometry meets
+    within the lowered tolerances). OCCT's split honours a tolerance of 1.57 mm on a hole
+    of radius 10 and gave pieces 1947 mm^3 (0.75 %) more than the part, and a Stretch
+    through the hole 1686 mm^3 more than the section x Distance, Up-to-date."""
+    cap = LOOSE * solid.BoundBox.DiagonalLength
+    if solid.getTolerance(1) <= cap:
+        return solid
+    out = solid.copy()
+    out.limitTolerance(TOL, cap)
+    return out if out.isValid() else solid
+
+
 def split_by(solid, tools, offset, offsets):
     """Split `solid` with the tool shapes; zone of a piece by `offset(points)` vs `offsets`.
 
     A piece is classified at its vertices and edge midpoints off the tools: every point of
     a piece lies in the closure of its zone, so this holds for zones that are not convex.
     """
-    pieces, _ = solid.generalFuse(tools)
+    tight = tightened(solid)
+    pieces, _ = tight.generalFuse(tools)
+    if tight is not solid or solid.getTolerance(1) > LOOSE * solid.BoundBox.DiagonalLength:
+        lost = sum(p.Volume for p in pieces.Solids) - solid.Volume
+        if abs(lost) > 1e-6 * abs(solid.Volume):
+            raise DeformError(f"OCCT's split at the plane gives pieces {lost:+.4g} mm^3 off "
+                              f"the Base's volume: the Base has tolerances up to "
+                              f"{solid.getTolerance(1):.3g} mm, which the split cannot keep; "
+                              f"move Plane off its loose edges, or repair the Base.", "Plane")
     zones = [[] for _ in range(len(offsets) + 1)]
     for piece in pieces.Solids:
         s = offset(np.array([tuple(v.Point) for v in piece.Vertexes]).reshape(-1, 3))
