@@ -1212,7 +1212,7 @@ def _raised_until_passes(out, a, b, subs, cap):
     pair = Part.makeCompound([out.Faces[a], out.Faces[b]])
     shapes = [getattr(out, kind)[k] for kind, k in dict.fromkeys(subs)]
     tol = max([s.Tolerance for s in shapes] + [TOL])
-    while not _bop_passes(pair):
+    while "SelfIntersect" in bop_errors(pair):   # (a C0 Base's GeomAbs_C0: no matter)
         if tol >= cap:
             return None
         tol = min(10.0 * tol, cap)
@@ -1267,14 +1267,3 @@ def _turns_over(fa, fb, edge, samples=17):
     if np.all(np.abs(signed) < TOUCH_ANGLE):
         return False
     return bool(np.any(np.abs(signed) < TOUCH_ANGLE) or np.any(signed[1:] * signed[:-1] < 0))
-
-
-def _bop_passes(shape):
-    """Does OCCT's BOP check (FreeCAD's Shape.check(True), which raises on its findings)
-    find no self-intersection? Its other findings (a C0 B-spline of the Base: GeomAbs_C0)
-    no tolerance changes."""
-    try:
-        shape.check(True)
-    except ValueError as exc:
-        return "SelfIntersect" not in str(exc)
-    return True
