@@ -1213,7 +1213,7 @@ def tangent_touches_settled(solid, on_surface, cap=TOUCH_CAP, prop=None, edges=T
                 todo.append((a, b, subs, where))
     # one check of all those faces together first: on a free-form housing (occt_Bottom
     # stretched at 30 %) 168 pairs are that close and none crosses
-    if not todo or _bop_passes(Part.makeCompound(
+    if not todo or "SelfIntersect" not in bop_errors(Part.makeCompound(
             [faces[k] for k in sorted({k for a, b, _, _ in todo for k in (a, b)})])):
         return solid
     out = None
