@@ -1181,14 +1181,22 @@ def tangent_touches_settled(solid, on_surface, cap=TOUCH_CAP, prop=None, edges=T
         return kind, index[kind][shape.hashCode()]
 
     meets = touching(joint)
-    seen, todo = set(), []
+    seen, todo, edges_of = set(), [], {}
+
+    def hashed(k):  # face k's edges and their hashes (isSame: same TShape and Location)
+        if k not in edges_of:
+            es = faces[k].Edges
+            edges_of[k] = es, {e.hashCode() for e in es}
+        return edges_of[k]
+
     for vertex, ks in around.values():
         ks = sorted(ks)
         for i, a in enumerate(ks):
             for b in ks[i + 1:]:
                 fa, fb = faces[a], faces[b]
-                shared = [e for e in fa.Edges if not e.Degenerated
-                          and any(e.isSame(g) for g in fb.Edges)]
+                common = hashed(a)[1] & hashed(b)[1]
+                shared = [e for e in hashed(a)[0] if e.hashCode() in common
+                          and not e.Degenerated] if common else []
                 if shared:
                     if not edges or (a, b) in seen:
                         continue
