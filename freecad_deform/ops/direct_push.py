@@ -209,10 +209,8 @@ def _folds(inputs, result):
     CHECKED_POLES poles are not checked: the check grows with the face, not with the push
     (13 s on the 312 x 323-pole terrain, 0.1 to 0.5 s on faces of a few hundred), and a
     region patch alone misses the folds (they meet the face's own edges)."""
-    name = inputs["Element"]
-    old = bspline.face_of(inputs["Shape"], name, "Element")[1]
-    new = result if result.ShapeType == "Face" else \
-        result.Faces[bspline.face_of(inputs["Shape"], name, "Element")[0]]
+    index, old = bspline.face_of(inputs["Shape"], inputs["Element"], "Element")
+    new = result if result.ShapeType == "Face" else result.Faces[index]
     if new.Surface.NbUPoles * new.Surface.NbVPoles > CHECKED_POLES:
         return None
     key = old.hashCode()

@@ -449,8 +449,9 @@ def face_on(surface, face, prop="Element"):
                 new = c2d.toShape(surface, a, b)
                 if edge.Orientation == "Reversed":
                     new.reverse()
-                tol = max([tol, edge.Tolerance] + [v.Tolerance for v in edge.Vertexes])
-                new.fixTolerance(max([edge.Tolerance] + [v.Tolerance for v in edge.Vertexes]))
+                own = max([edge.Tolerance] + [v.Tolerance for v in edge.Vertexes])
+                new.fixTolerance(own)
+                tol = max(tol, own)
                 edges.append(new)
             joined = Part.Wire(edges)
             if not joined.isClosed():
