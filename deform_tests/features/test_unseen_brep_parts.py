@@ -214,3 +214,10 @@ def test_a_face_in_a_hole_is_not_cut_by_the_pushed_face():
                                           V(6, -1, -1)]))         # crosses the face itself
     assert bspline.cuts_others(Part.makeCompound([holed, through]), 0, 1e-6,
                                holed.ParameterRange) is True
+    for estimate in (True, False):        # the refusal's bisection sections only faces
+        far = Part.Face(Part.makePolygon([V(6, -1, 0.5), V(6, 1, 0.5), V(6, 1, 2),   # near
+                                          V(6, -1, 2), V(6, -1, 0.5)]))
+        assert bspline.cuts_others(Part.makeCompound([holed, far, through]), 0, 1e-6,
+                                   holed.ParameterRange, estimate) is True
+        assert bspline.cuts_others(Part.makeCompound([holed, far]), 0, 1e-6,
+                                   holed.ParameterRange, estimate) is False

@@ -191,14 +191,16 @@ def _build(inputs, blend):
                           "Targets nearer to their Points.", "Targets") from None
 
 
-def _cuts(inputs, state, result):
-    """The pushed face of a solid or shell crosses another face of the result."""
+def _cuts(inputs, state, result, estimate=False):
+    """The pushed face of a solid or shell crosses another face of the result (estimate:
+    see bspline.cuts_others)."""
     shape = inputs["Shape"]
     index = bspline.face_of(shape, inputs["Element"], "Element")[0]
     if bspline.owner_of(shape, shape.Faces[index])[0] is None:
         return False
     region = push.moved_region(state.start, state.current)
-    return region is not None and bspline.cuts_others(result, index, 10 * state.tol, region)
+    return region is not None and bspline.cuts_others(result, index, 10 * state.tol, region,
+                                                       estimate)
 
 
 def _folds(inputs, result):
@@ -232,7 +234,8 @@ CHECKED_POLES = 20000
 def _unreachable(inputs, blend, why=None, steps=7):
     """The refusal of a push that makes the solid cut itself, or the face fail OCCT's
     check (`why`, see _folds), with how far along the last push the point can go
-    (bisection on its length, to 1/2^steps of it)."""
+    (bisection on its length, to 1/2^steps of it; each step's cut found by the faster
+    estimate: it only sets the length the message gives)."""
     k = len(inputs["Targets"]) - 1
     p = np.array(tuple(inputs["Points"][k]), float)
     t = np.array(tuple(inputs["Targets"][k]), float)
@@ -244,7 +247,7 @@ def _unreachable(inputs, blend, why=None, steps=7):
                      [App.Vector(*(p + mid * (t - p)))])
         try:
             state, result = _build(trial, blend)
-            bad = _cuts(trial, state, result) or why is not None and _folds(trial, result)
+            bad = _cuts(trial, state, result, True) or why is not None and _folds(trial, result)
         except DeformError:
             bad = True
         lo, hi = (lo, mid) if bad else (mid, hi)
