@@ -826,7 +826,19 @@ def _turned_on_surface(face, smap, tol):
         return bspline_curve2d(fit), a, b
 
     built = face_on_pcurves(surface, face, pcurve)
-    return None if built is None else (built, worst[0])
+    if built is None or _past_period(built):
+        return None
+    return built, worst[0]
+
+
+def _past_period(face):
+    """Whether the face's parameter range is wider than its surface's period in u (a
+    sphere's seam turned into a helix: the face runs from the seam's lower end round to
+    its upper one). OCCT takes such a face as valid, but its sections and booleans lose
+    the part past the period: a sphere twisted about its axis sliced to an open wire, and
+    its common with a box was empty)."""
+    u0, u1 = face.ParameterRange[:2]
+    return face.Surface.isUPeriodic() and u1 - u0 > face.Surface.UPeriod() * (1 + 1e-12)
 
 
 # --- loose wireframes --------------------------------------------------------------------
