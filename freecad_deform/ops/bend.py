@@ -15,6 +15,7 @@ from ..geometry.sweep.bend import bend_tangents, check_bend
 from ..shapes import brep, mapped
 from ..shapes.convert import mesh_arrays, mesh_eps, points_from_array
 from . import planes as pp
+from .twist import profile_bounds
 
 
 def solid(shape, origin, normal, angle, axis, gap=None, samples=16, profile="Linear",
@@ -78,7 +79,9 @@ def mesh(base, origin, normal, angle, axis, gap=None, samples=16, profile="Linea
     return pp.mesh_result((v, t), *(
         mesh_sweep.sweep_mesh(v, t, origin, normal, motion, samples, mesh_eps(v))
         if gap is None else
-        mesh_sweep.map_between(v, t, origin, normal, gap, motion, samples, mesh_eps(v))))
+        mesh_sweep.map_following(v, t, origin, normal, gap, motion, samples, mesh_eps(v),
+                                 angle, *axis, *profile_bounds(profile), bend=True,
+                                 what="Bend")))
 
 
 def points(base, origin, normal, angle, axis, gap=None, profile="Linear"):

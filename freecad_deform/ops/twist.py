@@ -50,8 +50,14 @@ def mesh(base, origin, normal, gap, angle, axis=None, samples=16, profile="Linea
     v, t = mesh_arrays(base)
     axis = axis or (pp.section_centroid_mesh(base, origin, normal, (v, t)), normal)
     of_s = pp.profiled(mesh_sweep.twist_motion(origin, normal, gap, angle, *axis), profile)
-    return pp.mesh_result((v, t), *mesh_sweep.map_between(v, t, origin, normal, gap, of_s,
-                                                        samples, mesh_eps(v)))
+    return pp.mesh_result((v, t), *mesh_sweep.map_following(
+        v, t, origin, normal, gap, of_s, samples, mesh_eps(v), angle, *axis,
+        *profile_bounds(profile), what="Twist"))
+
+
+def profile_bounds(profile):
+    """(largest |t'|, largest |t''|) of a profile t on [0, 1] (Smooth: 3f^2 - 2f^3)."""
+    return (1.0, 0.0) if profile == "Linear" else (1.5, 6.0)
 
 
 def points(base, origin, normal, gap, angle, axis=None, profile="Linear"):

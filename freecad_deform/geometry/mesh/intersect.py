@@ -124,3 +124,13 @@ def new_intersections(X0, X1, T, moved):
     exempt = np.unique(np.sort(piece[before], axis=1) @ [k, 1])
     key = np.sort(piece[pairs[now]], axis=1) @ [k, 1]
     return int(np.count_nonzero(~np.isin(key, exempt)))
+
+
+def self_crossings(X, T):
+    """Number of pairs of triangles sharing no vertex that cross (an edge of one through the
+    interior of the other), over the whole mesh."""
+    X, T = np.asarray(X, float).reshape(-1, 3), np.asarray(T, np.int64).reshape(-1, 3)
+    if not len(T):
+        return 0
+    pairs = _candidates(X, T, np.ones(len(T), bool))
+    return int(np.count_nonzero(crossing(X, T, pairs))) if len(pairs) else 0

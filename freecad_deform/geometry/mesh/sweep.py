@@ -163,6 +163,224 @@ def map_between(vertices, triangles, origin, normal, gap, motion_of_s, samples=1
     return slab_cut(V, T, o, n, gap, samples, eps, motion_of_s)
 
 
+FOLLOW = 1e-3        # how far (of the mesh's bounding-box diagonal) a flat piece between
+                     # two Samples planes may stray from a twist or bend map (follow_map)
+FOLLOW_ROUNDS = 12   # rounds of edge splits at most
+SLIVER = 1e-3        # a triangle whose height is below this fraction of its longest edge is
+                     # not split (its halves would be as thin)
+
+
+def slab_deviation(V, T, o, n, gap, samples, angle, axis_point, axis_direction, slope=1.0,
+                   curvature=0.0, bend=False, tol=None):
+    """Per triangle (M,), a bound on how far its flat pieces between the Samples planes
+    (map_between) stray from the map they sample: 0 for the triangles outside the region.
+
+    The map is p -> R(theta(f)) (p - g(f) n), f = s / gap, a turn about the axis by theta =
+    angle t(f) (twist: g = 0; bend: g = gap t(f)), t the profile with |t'| <= slope and
+    |t''| <= curvature. Along a segment p + tau v of a piece, the second derivative of the
+    map is theta_tt R' y + theta_t^2 R'' y + 2 theta_t R' y_t (- R g_tt n for a bend), so
+    its size is at most Q = A r v_s^2 + 2 c1 |v_s| d with c1 = |angle| slope / gap, A =
+    c1^2 + |angle| curvature / gap^2 (+ curvature / gap for a bend), r the distance from
+    the axis, v_s the segment's extent along n and d that of y_t across the axis (twist:
+    |v| across the axis; bend: |v| across n + |1 - slope| |v_s|). A piece lies inside its
+    triangle and one slab: |v_s| <= h_t = min(gap / samples, the triangle's extent along n
+    inside the region), d <= the largest such extent of the triangle's edges, r <= that of
+    its corners (the farthest of the region's, for speed: with `tol`, the triangles whose
+    bound exceeds it get their own). The flat piece interpolates the map at its corners: for a map of second
+    derivative Q it strays by at most (4/3) Q / 8 = Q / 6 (the sum over its edges of their
+    bows Q / 8 weighted by 4 l_i l_j)."""
+    out = np.zeros(len(T))
+    V, T = arrays(V, T, copy=False)
+    if 4 * len(T) < len(V):                   # (a few new triangles: their vertices alone)
+        used, T = np.unique(T, return_inverse=True)
+        V, T = V.take(used, axis=0), T.reshape(-1, 3)
+    k = np.asarray(axis_direction, float).reshape(3)
+    k = k / np.linalg.norm(k)
+    # per vertex: s, the distance from the axis, and two coordinates across the direction
+    # the edges' extent d is measured across (the axis for a twist, the normal for a bend)
+    s = V @ n
+    s -= float(np.asarray(o, float) @ n)
+    code = (s > 0).view(np.int8) + (s >= gap).view(np.int8)
+    c = code.take(T)
+    total = c[:, 0] + c[:, 1]
+    total += c[:, 2]
+    rows = np.flatnonzero((total != 0) & (total != 6))   # all before Plane or beyond Plane2
+    if not len(rows):
+        return out
+    Tr = T.take(rows, axis=0)
+    w = V - np.asarray(axis_point, float).reshape(3)
+    along = w @ k
+    r2 = np.einsum("ij,ij->i", w, w)
+    r2 -= along * along
+    across = n if bend else k
+    u = np.cross(across, [1.0, 0.0, 0.0] if abs(across[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    plane = (V @ u, V @ np.cross(across, u))
+    corner = [Tr[:, j] for j in range(3)]
+    S = [s.take(x) for x in corner]
+    lo = np.clip(np.minimum(np.minimum(S[0], S[1]), S[2]), 0.0, gap)
+    h = np.clip(np.maximum(np.maximum(S[0], S[1]), S[2]), 0.0, gap)
+    h -= lo
+    np.minimum(h, gap / samples, out=h)
+    r = np.sqrt(max(float(r2.take(Tr).max()), 0.0))      # the farthest (each one's below)
+    P = [[x.take(y) for y in corner] for x in plane]
+    d2 = None
+    for j in range(3):
+        e = [q[(j + 1) % 3] - q[j] for q in P]
+        e2 = e[0] * e[0]
+        e2 += e[1] * e[1]
+        d2 = e2 if d2 is None else np.maximum(d2, e2, out=d2)
+    d = np.sqrt(d2)
+    if bend:
+        d += abs(1.0 - slope) * h
+    c1 = abs(angle) * slope / gap
+    A = c1 * c1 + abs(angle) * curvature / gap ** 2 + (curvature / gap if bend else 0.0)
+    out[rows] = bound = (A * r * h * h + 2.0 * c1 * h * d) / 6.0
+    if tol is not None:                       # the triangles over tol get their own r
+        over = np.flatnonzero(bound > tol)
+        t = Tr.take(over, axis=0)
+        own = np.sqrt(np.maximum(r2.take(t).max(axis=1), 0.0))
+        out[rows.take(over)] = (A * own * h.take(over) ** 2 + 2.0 * c1 * h.take(over)
+                                * d.take(over)) / 6.0
+    return out
+
+
+def follow_map(V, T, o, n, gap, samples, angle, axis_point, axis_direction, slope=1.0,
+               curvature=0.0, bend=False, tol=None):
+    """The mesh (V, T) with edges split so that its flat pieces between the Samples planes
+    follow the twist or bend map (see slab_deviation) within `tol` (default FOLLOW x the
+    bounding-box diagonal): returns (vertices, triangles, risky), risky the number of
+    triangles still beyond tol (no split can bring them under: slivers, or a part so far
+    from the axis that a slab's own turn strays, which only more Samples mend).
+
+    Each round the triangles beyond tol that a split helps (their deviation not all in the
+    term of their extent along n, which a split leaves as it is once it is a slab's width;
+    not slivers) have their longest edge split at its midpoint, and so has every triangle
+    with a split edge, until it holds (longest-edge bisection closed over the neighbours:
+    both triangles of an edge split it at the same new vertex, so a closed 2-manifold
+    stays one, orientation kept, and the triangles keep their shape). A triangle with
+    one split edge becomes 2, two 3 (its longest edge's midpoint joined to the opposite
+    corner first), three 4. The input arrays come back unchanged (the same objects) when
+    nothing needs a split: the cost then is slab_deviation's, on the region's triangles.
+    On flat triangles, so the enclosed volume is kept exactly."""
+    V, T = arrays(V, T, copy=False)
+    if not len(T):
+        return V, T, 0
+    if tol is None:
+        tol = FOLLOW * float(np.linalg.norm(np.ptp(V, axis=0)))
+    h = gap / samples
+    k = np.asarray(axis_direction, float).reshape(3)
+    k = k / np.linalg.norm(k)
+    c1 = abs(angle) * slope / gap
+    A = c1 * c1 + abs(angle) * curvature / gap ** 2 + (curvature / gap if bend else 0.0)
+    def deviation(V, T):
+        return slab_deviation(V, T, o, n, gap, samples, angle, axis_point, axis_direction,
+                              slope, curvature, bend, tol)
+
+    dev = deviation(V, T)
+    for _ in range(FOLLOW_ROUNDS + 1):
+        over = np.flatnonzero(dev > tol)
+        if not len(over):
+            return V, T, 0
+        X = V.take(T.take(over, axis=0), axis=0)
+        E = X[:, [1, 2, 0]] - X
+        L2 = (E * E).sum(axis=2)
+        longest = np.sqrt(L2.max(axis=1))
+        area2 = np.linalg.norm(np.cross(E[:, 0], -E[:, 2]), axis=1)
+        w = X - np.asarray(axis_point, float).reshape(3)
+        r = np.sqrt(np.maximum((w * w).sum(axis=2) - (w @ k) ** 2, 0.0)).max(axis=1)
+        S = (X - o) @ n
+        thick = np.ptp(S, axis=1) < h         # a split shortens its extent along n too
+        helps = (thick | (A * r * h * h / 6.0 < 0.75 * tol)) & (area2 >= SLIVER * longest ** 2)
+        if not helps.any() or _ == FOLLOW_ROUNDS:
+            return V, T, int(len(over))
+        V, T, kept = _bisected(V, T, over[helps])
+        dev = np.concatenate([dev[kept], deviation(V, T[int(np.count_nonzero(kept)):])])
+    return V, T, 0
+
+
+def map_following(V, T, o, n, gap, motion_of_s, samples, eps, angle, axis_point,
+                  axis_direction, slope=1.0, curvature=0.0, bend=False, what="Twist"):
+    """map_between on the mesh refined by follow_map, so that the flat pieces between the
+    Samples planes cannot stray far enough from the map to cross (the op's entry for a
+    mesh Twist and a two-plane mesh Bend; map_between alone is the kernel). When some
+    triangles stay beyond follow_map's tolerance, the result is searched for facets that
+    cross (intersect.self_crossings, over the whole mesh: rare) and refused, naming
+    Samples, if it has some the Base does not."""
+    V, T = arrays(V, T, copy=False)
+    Vf, Tf, risky = follow_map(V, T, o, n, gap, samples, angle, axis_point, axis_direction,
+                               slope, curvature, bend)
+    W, F = map_between(Vf, Tf, o, n, gap, motion_of_s, samples, eps)
+    if risky:
+        from .intersect import self_crossings
+        crossed = self_crossings(W, F)
+        if crossed and not self_crossings(V, T):
+            raise DeformError(
+                f"The {what} bends the mesh's flat facets through each other: {crossed} "
+                f"pairs of facets cross (between two of the {samples} Samples planes a "
+                f"facet follows the map only at its corners, and {risky} facets stray too "
+                f"far: slivers, or parts far from the axis); raise Samples, lower Angle or "
+                f"move Plane2 farther.", "Samples")
+    return W, F
+
+
+def _bisected(V, T, rows):
+    """(V, T, kept) with the longest edge of the triangles `rows` split at its midpoint, and
+    the longest edge of every triangle that has a split edge, until none has a split edge
+    without its longest (see follow_map); the triangles not split (`kept`, a mask of the
+    input's rows) come first, in their order."""
+    N = len(V)
+
+    def edges(t):                         # (edge keys (k, 3): edge j is corner j -> j + 1,
+        X = V.take(t, axis=0)             # the index of the longest)
+        nxt = t[:, [1, 2, 0]]
+        key = np.minimum(t, nxt) * N + np.maximum(t, nxt)
+        return key, ((X[:, [1, 2, 0]] - X) ** 2).sum(axis=2).argmax(axis=1)
+
+    key, longest = edges(T.take(rows, axis=0))
+    split = np.unique(key[np.arange(len(rows)), longest])
+    while True:                           # the triangles with both ends of a split edge
+        end = np.zeros(N, np.int8)
+        end[split // N] = end[split % N] = 1
+        c = end.take(T)
+        at = np.flatnonzero(c[:, 0] + c[:, 1] + c[:, 2] >= 2)
+        key, longest = edges(T.take(at, axis=0))
+        cut = np.isin(key, split)
+        more = np.setdiff1d(key[np.arange(len(at)), longest][cut.any(axis=1)], split)
+        if not len(more):
+            break
+        split = np.union1d(split, more)
+    mid = N + np.minimum(np.searchsorted(split, key), len(split) - 1)   # (valid where cut)
+    W = np.concatenate([V, 0.5 * (V.take(split // N, axis=0) + V.take(split % N, axis=0))])
+    count = cut.sum(axis=1)
+    kept = np.ones(len(T), bool)
+    kept[at[count > 0]] = False
+    out = [T[kept]]
+    for c in (1, 2, 3):
+        this = np.flatnonzero(count == c)
+        if not len(this):
+            continue
+        t, m, lg = T.take(at[this], axis=0), mid.take(this, axis=0), longest.take(this)
+        if c == 3:
+            m0, m1, m2 = m[:, 0], m[:, 1], m[:, 2]
+            out += [np.stack(x, 1) for x in ((t[:, 0], m0, m2), (m0, t[:, 1], m1),
+                                             (m2, m1, t[:, 2]), (m0, m1, m2))]
+            continue
+        # turned so that edge 0 is split (c = 2: edges 0 and 1, edge 2 whole)
+        first = lg if c == 1 else (np.argmin(cut.take(this, axis=0), axis=1) + 1) % 3
+        turn = (first[:, None] + np.arange(3)) % 3
+        t, m = np.take_along_axis(t, turn, 1), np.take_along_axis(m, turn, 1)
+        t0, t1, t2, m0, m1 = t[:, 0], t[:, 1], t[:, 2], m[:, 0], m[:, 1]
+        if c == 1:
+            out += [np.stack([t0, m0, t2], 1), np.stack([m0, t1, t2], 1)]
+            continue
+        zero = ((lg - first) % 3 == 0)[:, None]        # the longest is edge 0, else edge 1
+        out += [np.where(zero, np.stack([t0, m0, t2], 1), np.stack([t0, m0, m1], 1)),
+                np.stack([m0, t1, m1], 1),
+                np.where(zero, np.stack([m0, m1, t2], 1), np.stack([t0, m1, t2], 1))]
+    return W, np.concatenate(out), kept
+
+
 def move_by_fraction(points, f, motion_of_s, in_place=False):
     """Point i moved by motion_of_s(f[i]), f in [0, 1]; the points with f = 0 returned
     bit-identical (in_place: the points array itself is written and returned).
