@@ -2,9 +2,11 @@
 left facets crossing each other, Up-to-date (stop 19; found on trimesh's multibody.stl and
 7_8ths_cube.stl, see /work/notes/unseen_mesh18.md and mesh19.md). Between two Samples planes
 a flat facet follows the map only at its corners; where that strays far (a long facet, a
-part far from the axis) the facets cross. The ops now split the edges of the facets that
-stray beyond a tolerance (sweep.follow_map) and refuse, naming Samples, a result that still
-crosses.
+part far from the axis) the facets cross. Where a triangle's bound on that (sweep.
+slab_deviation) is large the ops now search the result for crossing facets, split the
+edges that stray (sweep.follow_map) when it has some and refuse, naming Samples, a result
+that still crosses; a two-plane Bend that turns the far part into the near part is refused naming
+Angle, as the one-plane Bend is.
 
 Oracles, independent of the code: an exact segment-triangle test written here (float64
 filter, then rational arithmetic) over every pair of facets of the stored result that share
@@ -125,6 +127,53 @@ class TestTwistFarFromTheAxis:
 
     def test_enough_samples_up_to_date_and_clean(self):
         obj = self.twist(64)
+        assert obj.State == ["Up-to-date"], obj.getStatusString()
+        X, T = arrays(obj.Mesh)
+        assert_closed_manifold(X, T)
+        assert not crossing_pairs(X, T)
+
+
+class TestTwoPlaneBendOfAPrism:
+    """The same prism bent between z = 0.186 and 0.220 about a line along y in Plane (the
+    two-plane mesh Bend runs the Twist's kernel): bent toward the near part (the far part
+    swinging into it) the region was swept through the near part, 10 crossing pairs,
+    Up-to-date (the one-plane Bend and the solids refuse it naming Angle); bent away about
+    a line 3500 away, at Samples 16 each slab's facets sheared through each other, 24
+    pairs, Up-to-date."""
+
+    def setup_method(self):
+        self.doc = fc.new_document("UnseenBendPrism")
+        self.base = self.doc.addObject("Mesh::Feature", "Prism")
+        self.base.Mesh = prism_mesh([(0.0233, 0.1910), (0.0999, 0.1677), (0.1252, 0.2657),
+                                     (0.0485, 0.2880)], (-0.37, 0.0, 0.37))
+
+    def teardown_method(self):
+        App.closeDocument(self.doc.Name)
+
+    def bend(self, angle, axis_x, samples):
+        n = V(0, 0, 1)
+        obj = fd.make_bend(self.base, (V(0, 0, 0.186), n), angle,
+                           (V(axis_x, 0, 0.186), V(0, 1, 0)), (V(0, 0, 0.220), n))
+        obj.Samples = samples
+        self.doc.recompute()
+        return obj
+
+    def test_toward_the_near_part_refused(self):
+        obj = self.bend(30.0, -20.0, 64)
+        if "Invalid" in obj.State:
+            assert "Angle" in obj.getStatusString()
+            return
+        assert not crossing_pairs(*arrays(obj.Mesh)), "crossing facets in an Up-to-date result"
+
+    def test_far_axis_coarse_refused_or_clean(self):
+        obj = self.bend(-30.0, -3500.0, 16)
+        if "Invalid" in obj.State:
+            assert "Samples" in obj.getStatusString()
+            return
+        assert not crossing_pairs(*arrays(obj.Mesh)), "crossing facets in an Up-to-date result"
+
+    def test_far_axis_enough_samples_clean(self):
+        obj = self.bend(-30.0, -3500.0, 64)
         assert obj.State == ["Up-to-date"], obj.getStatusString()
         X, T = arrays(obj.Mesh)
         assert_closed_manifold(X, T)

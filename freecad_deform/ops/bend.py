@@ -76,12 +76,31 @@ def mesh(base, origin, normal, angle, axis, gap=None, samples=16, profile="Linea
     planes)."""
     v, t = mesh_arrays(base)
     motion = _motion(origin, normal, angle, axis, gap, profile, v)
+    if gap is not None:               # (one plane: sweep_mesh checks its section itself)
+        section = section_points(v, t, origin, normal)
+        if len(section):
+            check_bend(section, normal, *axis, angle)
     return pp.mesh_result((v, t), *(
         mesh_sweep.sweep_mesh(v, t, origin, normal, motion, samples, mesh_eps(v))
         if gap is None else
         mesh_sweep.map_following(v, t, origin, normal, gap, motion, samples, mesh_eps(v),
                                  angle, *axis, *profile_bounds(profile), bend=True,
                                  what="Bend")))
+
+
+def section_points(v, t, origin, normal):
+    """The points where the mesh's edges cross Plane (and its vertices on it): where a
+    two-plane Bend's swept section starts. A bend that turns them back into the near part
+    sweeps the region through it (its facets cross the near part's), one whose axis
+    crosses them folds the region; check_bend refuses both, as the solids' and the
+    one-plane mesh Bend's checks do."""
+    s = (np.asarray(v, float) - origin) @ normal
+    a, b = t.reshape(-1), np.roll(t, -1, axis=1).reshape(-1)
+    sa, sb = s.take(a), s.take(b)
+    cross = np.flatnonzero(((sa < 0) & (sb > 0)) | ((sa > 0) & (sb < 0)))
+    f = (sa.take(cross) / (sa.take(cross) - sb.take(cross)))[:, None]
+    va = v.take(a.take(cross), axis=0)
+    return np.concatenate([va + f * (v.take(b.take(cross), axis=0) - va), v[s == 0]])
 
 
 def points(base, origin, normal, angle, axis, gap=None, profile="Linear"):
