@@ -126,11 +126,13 @@ def new_intersections(X0, X1, T, moved):
     return int(np.count_nonzero(~np.isin(key, exempt)))
 
 
-def self_crossings(X, T):
+def self_crossings(X, T, among=None):
     """Number of pairs of triangles sharing no vertex that cross (an edge of one through the
-    interior of the other), over the whole mesh."""
+    interior of the other), over the whole mesh, or those with one of them `among` (a
+    mask of the triangles)."""
     X, T = np.asarray(X, float).reshape(-1, 3), np.asarray(T, np.int64).reshape(-1, 3)
-    if not len(T):
+    among = np.ones(len(T), bool) if among is None else np.asarray(among, bool)
+    if not among.any():
         return 0
-    pairs = _candidates(X, T, np.ones(len(T), bool))
+    pairs = _candidates(X, T, among)
     return int(np.count_nonzero(crossing(X, T, pairs))) if len(pairs) else 0

@@ -308,8 +308,9 @@ def map_following(V, T, o, n, gap, motion_of_s, samples, eps, angle, axis_point,
     """map_between, checked where its flat pieces may stray far enough from the map to cross
     (the op's entry for a mesh Twist and a two-plane mesh Bend; map_between alone is the
     kernel). When some triangle's slab_deviation exceeds CHECK x the bounding-box diagonal,
-    the result is searched for facets that cross (intersect.self_crossings, over the whole
-    mesh); if it has some the Base does not, the mesh is refined by follow_map (to FOLLOW)
+    the result is searched for facets that cross (intersect.self_crossings, the pieces of
+    the region and the triangles with a corner inside it against all: the parts before
+    Plane and beyond Plane2 move rigidly, and apart); if it has some the Base does not, the mesh is refined by follow_map (to FOLLOW)
     and mapped again, and refused, naming Samples, if that still crosses. A result without
     crossings comes back as map_between gives it (the triangles of the cut alone)."""
     V, T = arrays(V, T, copy=False)
@@ -320,12 +321,35 @@ def map_following(V, T, o, n, gap, motion_of_s, samples, eps, angle, axis_point,
     if not len(T) or not dev.max() > CHECK * diagonal:
         return W, F
     from .intersect import self_crossings
-    if not self_crossings(W, F) or self_crossings(V, T):
+    s = (V - o) @ n
+    inside = (s > 0) & (s < gap)
+
+    margin = 2.0 * float(dev.max())
+    keeps_s = not bend and abs(abs(float(np.dot(unit(axis_direction, "Axis").reshape(3), n)))
+                               - 1.0) < 1e-12
+
+    def crossings(W, F, N):
+        """The crossing pairs with a triangle the map moves but not rigidly (a piece of the
+        cut, or one with a corner between the planes) in it; a twist about the normal
+        keeps s, so only the triangles reaching margin of the region can meet those."""
+        c = np.concatenate([inside, np.ones(len(W) - N + 1, bool)])   # (new vertices: cut)
+        among = c.take(np.minimum(F, N)).any(axis=1)
+        if keeps_s:
+            sw = ((W - o) @ n).take(F)
+            near = ~(((sw < -margin).all(axis=1)) | ((sw > gap + margin).all(axis=1)))
+            F, among = F[near], among[near]
+        return self_crossings(W, F, among)
+
+    span = s.take(T)
+    reach = ~(((span <= 0).all(axis=1)) | ((span >= gap).all(axis=1)))
+    if not crossings(W, F, len(V)) or self_crossings(V, T, reach):
         return W, F
     Vf, Tf, risky = follow_map(V, T, o, n, gap, samples, angle, axis_point, axis_direction,
                                slope, curvature, bend)
     W, F = map_between(Vf, Tf, o, n, gap, motion_of_s, samples, eps)
-    crossed = self_crossings(W, F)
+    s = (Vf - o) @ n
+    inside = (s > 0) & (s < gap)
+    crossed = crossings(W, F, len(Vf))
     if crossed:
         raise DeformError(
             f"The {what} bends the mesh's flat facets through each other: {crossed} pairs "
