@@ -592,7 +592,7 @@ def _glued(solids, faces, on_surface):
             touched) + len(merged) or not _valid_faces(new, meets) or not _manifold(
             merged, meets) or not _shells_valid(out):
         return None
-    return _settled_at_joints(kept_tolerances(out, new, before, joint), on_surface)
+    return _settled_at_joints(kept_tolerances(out, new, before, joint), on_surface, merged)
 
 
 def _kept_orientation(before, after):
@@ -751,10 +751,15 @@ def kept_tolerances(shape, faces, before, joint):
     return out
 
 
-def _settled_at_joints(solid, on_surface):
+def _settled_at_joints(solid, on_surface, at_joints=None):
     """The solid with the tolerance of each edge reaching a joint raised to twice the gap
-    between its 3D curve and its pcurves, on a copy when one must rise (settled)."""
-    return settled(solid, joint_vertices(solid, on_surface))
+    between its 3D curve and its pcurves, on a copy when one must rise (settled), and
+    raised where two faces touch tangentially at a joint vertex (tangent_touches_settled;
+    not when `at_joints`, all the faces with a vertex on a joint, has no free-form one)."""
+    solid = settled(solid, joint_vertices(solid, on_surface))
+    if at_joints is not None and all(_surface_kind(f) != FREE for f in at_joints):
+        return solid
+    return tangent_touches_settled(solid, on_surface, edges=False)
 
 
 def passes_bop_check(shape):
@@ -1122,3 +1127,235 @@ def joint_normals(face, edges, samples=7):
             points.append(tuple(p))
             normals.append(tuple(surface.normal(*surface.parameter(p))))
     return np.array(points, float), np.array(normals, float)
+
+
+# the largest angle (radians) between two faces' normals at a point where OCCT's BOP check
+# may find them crossing: along an edge they share (where the angle passes through zero),
+# or at a vertex they alone share (OCCT's Pump_TopCover stretched twice: 7.6 deg; its
+# intersection there spreads as the deviation / sin(angle))
+TOUCH_ANGLE = 1e-3
+VERTEX_ANGLE = 0.25
+# the most a join raises a tolerance where two faces touch tangentially (tangent_touches)
+TOUCH_CAP = 1e-3
+# what a face's surface is, for tangent_touches_settled: a plane, another analytic surface
+# (OCCT intersects two of those in closed form), or free-form (B-spline, Bezier, extrusion,
+# revolution, offset: intersected by marching, where a tangent touch spreads)
+FLAT, ANALYTIC, FREE = 0, 1, 2
+
+
+def _surface_kind(face):
+    surface = face.Surface
+    if isinstance(surface, Part.Plane):
+        return FLAT
+    if isinstance(surface, (Part.Cylinder, Part.Cone, Part.Sphere, Part.Toroid)):
+        return ANALYTIC
+    return FREE
+
+
+def tangent_touches_settled(solid, on_surface, cap=TOUCH_CAP, prop=None, edges=True,
+                            vertices=True):
+    """`solid`, or a copy with tolerances raised at the joints where two faces touch
+    tangentially and OCCT's BOP check finds them crossing there (SelfIntersect):
+    - two faces that share a joint vertex but no edge, tangent or nearly so there (normals
+      within VERTEX_ANGLE): a mapped face continuing the surface of a rigid one diagonally
+      across the vertex (a sphere split at its seam, twisted about its centre: both faces
+      on the sphere, the mapped one fitted to it within 1e-7), or a stretch's swept side
+      and a far sphere face at 7.6 deg to it (OCCT's Pump_TopCover stretched twice);
+    - with `edges`, two that share a joint edge along which the angle between them passes
+      through zero (a sphere twisted about an axis off its centre meets its rigid part with
+      a kink that turns over at one point of the joint: Pump_TopCover twisted at 50 %).
+    Near a tangency the intersection of the two surfaces spreads far beyond the edges'
+    tolerances (to 5.8e-4 mm on a dome of radius 100). The edges of the two faces at the
+    vertex, or the shared edge, and their vertices are raised ten-fold at a time up to
+    `cap` until OCCT's check of those two faces finds no self-intersection (a few tenths
+    of a second a check, only where faces touch so). Past `cap`: a DeformError naming
+    `prop`, or, without `prop`, the solid as it is."""
+    joint = joint_vertices(solid, on_surface)
+    if not joint:
+        return solid
+    faces = solid.Faces
+    near = range(len(faces))
+    planes = getattr(on_surface, "planes", None)
+    if planes is not None:  # only the faces whose box reaches a joint plane are looked at
+        boxes, reach = _boxes(faces), np.zeros(len(faces), bool)
+        margin = 1e-3 * solid.BoundBox.DiagonalLength
+        for o, n in planes:
+            lo, hi = _box_extents(boxes, o, n)
+            reach |= (lo < margin) & (hi > -margin)
+        near = np.flatnonzero(reach)
+    # only curved faces can touch so (two planes meet on a line), and a pair needs a free-
+    # form one: OCCT intersects two analytic surfaces in closed form
+    kinds = {int(k): _surface_kind(faces[k]) for k in near}
+    if FREE not in kinds.values():
+        return solid
+    around = {}
+    for k, kind in kinds.items():
+        if kind == FLAT:
+            continue
+        for v in faces[k].Vertexes:
+            if v.hashCode() in joint:
+                around.setdefault(v.hashCode(), (v, set()))[1].add(k)
+    index = {}
+
+    def sub(kind, shape):  # (kind, index in solid): the index maps made when first needed
+        if kind not in index:
+            index[kind] = {s.hashCode(): k for k, s in enumerate(getattr(solid, kind))}
+        return kind, index[kind][shape.hashCode()]
+
+    meets = touching(joint)
+    seen, todo, edges_of = set(), [], {}
+
+    def hashed(k):  # face k's edges and their hashes (isSame: same TShape and Location)
+        if k not in edges_of:
+            es = faces[k].Edges
+            edges_of[k] = es, {e.hashCode() for e in es}
+        return edges_of[k]
+
+    for vertex, ks in around.values():
+        ks = sorted(ks)
+        for i, a in enumerate(ks):
+            for b in ks[i + 1:]:
+                if FREE not in (kinds[a], kinds[b]):
+                    continue
+                fa, fb = faces[a], faces[b]
+                common = hashed(a)[1] & hashed(b)[1]
+                shared = [e for e in hashed(a)[0] if e.hashCode() in common
+                          and not e.Degenerated] if common else []
+                if shared:
+                    if not edges or (a, b) in seen:
+                        continue
+                    seen.add((a, b))
+                    turned = [e for e in shared if meets(e) and _in_joint(e, on_surface)
+                              and _turns_over(fa, fb, e)]
+                    if not turned:
+                        continue
+                    e = turned[0]
+                    where = e.valueAt(0.5 * (e.FirstParameter + e.LastParameter))
+                    subs = [sub("Edges", e) for e in turned] + [
+                        sub("Vertexes", v) for e in turned for v in e.Vertexes]
+                else:
+                    if not vertices or planes is not None and not _across(
+                            fa, fb, planes, margin):
+                        continue
+                    if not _tangent_at_vertex(fa, fb, vertex):
+                        continue
+                    where = vertex.Point
+                    at = [e for f in (fa, fb) for e in f.Edges if not e.Degenerated
+                          and any(w.isSame(vertex) for w in e.Vertexes)]
+                    subs = [sub("Edges", e) for e in at] + [
+                        sub("Vertexes", v) for e in at for v in e.Vertexes]
+                todo.append((a, b, subs, where))
+    # each pair checked alone (two faces: 0.01-0.3 s; all of them in one check intersects
+    # every neighbouring pair too: 1.3-6 s on Pump_TopCover's and the dome's 4-11 faces)
+    out, checked = None, set()
+    for a, b, subs, where in todo:
+        if (a, b) in checked:
+            continue
+        checked.add((a, b))
+        now = (out or solid).Faces
+        if "SelfIntersect" not in bop_errors(Part.makeCompound([now[a], now[b]])):
+            continue
+        raised = _raised_until_passes(out or solid.copy(), a, b, subs, cap)
+        if raised is None:
+            if prop is None:
+                return solid
+            raise DeformError(
+                f"Two faces touch tangentially at a joint near ({where.x:.4g}, "
+                f"{where.y:.4g}, {where.z:.4g}) and cross there by more than {prop} "
+                f"({cap:.3g} mm) allows; raise {prop}.", prop)
+        out = raised
+    return solid if out is None else out
+
+
+def _in_joint(edge, on_surface):
+    """Does `edge` lie in a joint (its ends and middle, within its tolerance)? An edge of
+    the region's own, with one end on a joint, lies between two faces the map took alike."""
+    t0, t1 = edge.FirstParameter, edge.LastParameter
+    pts = np.array([tuple(edge.valueAt(t)) for t in (t0, 0.5 * (t0 + t1), t1)])
+    planes = getattr(on_surface, "planes", None)
+    if planes is None:
+        return bool(on_surface(pts))
+    slack = max(edge.Tolerance, TOL)
+    return any(np.all(np.abs((pts - o) @ n) <= slack) for o, n in planes)
+
+
+def _across(fa, fb, planes, margin):
+    """Do the two faces lie on the two sides of one of the joint planes (each within
+    `margin` of its side)? Faces touching at a vertex from one side (the Base's own, a free-
+    form housing has hundreds at a joint) are left alone."""
+    pts = [np.array([tuple(v.Point) for v in f.Vertexes] + [
+        tuple(e.valueAt(0.5 * (e.FirstParameter + e.LastParameter)))
+        for e in f.Edges if not e.Degenerated]).reshape(-1, 3) for f in (fa, fb)]
+    for o, n in planes:   # at their vertices and edge midpoints (a sphere face's box
+        sa, sb = ((p - o) @ n for p in pts)   # reaches far past the face)
+        if (sa.max() < margin and sb.min() > -margin) or (
+                sb.max() < margin and sa.min() > -margin):
+            return True
+    return False
+
+
+def _raised_until_passes(out, a, b, subs, cap):
+    """`out` with the tolerance of its sub-shapes `subs` ((kind, index)) raised ten-fold at
+    a time until OCCT's BOP check of its faces a and b, which fails now, passes, or None
+    past `cap`."""
+    faces = out.Faces
+    pair = Part.makeCompound([faces[a], faces[b]])
+    lists = {kind: getattr(out, kind) for kind, _ in subs}
+    shapes = [lists[kind][k] for kind, k in dict.fromkeys(subs)]
+    tol = max([s.Tolerance for s in shapes] + [TOL])
+    while True:
+        if tol >= cap:
+            return None
+        tol = min(10.0 * tol, cap)
+        for shape in shapes:  # edges first, then their vertices: never below an edge's
+            shape.limitTolerance(tol)
+        if "SelfIntersect" not in bop_errors(pair):   # (a C0 Base's GeomAbs_C0: no matter)
+            return out
+
+
+def _uv_at(face, edge, t):
+    """The (u, v) of `face`'s surface at parameter t of its `edge` (the edge's pcurve:
+    projecting onto a fitted B-spline costs 9 ms a point), or None."""
+    found = face.curveOnSurface(edge)
+    if found is None:
+        return None
+    q = found[0].value(t)
+    return q.x, q.y
+
+
+def _tangent_at_vertex(fa, fb, vertex):
+    """Are the faces' normals (anti)parallel at their common `vertex`, within VERTEX_ANGLE?
+    Each normal at the end of an edge of that face at the vertex."""
+    normals = []
+    for face in (fa, fb):
+        edge = next((e for e in face.Edges if not e.Degenerated
+                     and any(w.isSame(vertex) for w in e.Vertexes)), None)
+        if edge is None:
+            return False
+        t0, t1 = edge.FirstParameter, edge.LastParameter
+        t = t0 if edge.valueAt(t0).distanceToPoint(vertex.Point) <= edge.valueAt(
+            t1).distanceToPoint(vertex.Point) else t1
+        uv = _uv_at(face, edge, t)
+        if uv is None:
+            return False
+        normals.append(np.array(tuple(face.Surface.normal(*uv))))
+    return np.linalg.norm(np.cross(*normals)) < np.sin(VERTEX_ANGLE)
+
+
+def _turns_over(fa, fb, edge, samples=17):
+    """Does the angle between the faces, measured about their shared `edge`, pass through
+    zero (change sign, or come within TOUCH_ANGLE of it) inside the edge while it is not
+    zero all along it (a tangent joint, as a Smooth profile makes)?"""
+    ts = np.linspace(edge.FirstParameter, edge.LastParameter, samples)[1:-1]
+    normals = []
+    for face in (fa, fb):
+        mine = next(e for e in face.Edges if e.isSame(edge))
+        uvs = [_uv_at(face, mine, t) for t in ts]
+        if any(uv is None for uv in uvs):
+            return False
+        normals.append(np.array([tuple(face.Surface.normal(*uv)) for uv in uvs]))
+    tangents = np.array([tuple(edge.tangentAt(t)) for t in ts])
+    signed = np.einsum("ij,ij->i", np.cross(*normals), tangents)
+    if np.all(np.abs(signed) < TOUCH_ANGLE):
+        return False
+    return bool(np.any(np.abs(signed) < TOUCH_ANGLE) or np.any(signed[1:] * signed[:-1] < 0))

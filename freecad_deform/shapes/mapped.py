@@ -78,6 +78,7 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
     result = None
     if _rigid(end) and all(len(s.Shells) == 1 for s in near + between + far):
         result = _joined_locally(near, cut, far, far_cut, mapped, end, joints, worst)
+    local = result is not None   # else sewn_solid checked the faces touching at a vertex
     if result is None:
         moved, dev = _moved_faces([f for s in far for f in s.Faces
                                    if not any(f.isSame(c) for c in far_cut)], end, fit_tol)
@@ -95,7 +96,11 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
         raise DeformError(f"The mapped region's voids do not close again ({len(solid.Shells)} "
                           f"shells became {len(result.Shells)}); move Plane or Plane2 a "
                           f"little, off the voids' poles and seams.", "Plane2")
-    return result, worst
+    # where two faces touch tangentially at a joint, tolerances raised up to Tolerance until
+    # OCCT's BOP check of the two finds no crossing (past it the solid as it is: the
+    # smooth taper of the real-parts housing occt_Bottom meets such a pair)
+    return brep.tangent_touches_settled(result, brep.on_planes(joints), tol,
+                                        vertices=local), worst
 
 
 def _joined_locally(near, cut, far, far_cut, mapped, end, joints, deviation):
@@ -250,7 +255,9 @@ def sewn_solid(faces, joints, deviation, prop, slack=0.0):
     if not solid.isValid():
         raise DeformError(f"The mapped faces do not join into one valid solid; lower {prop}.",
                           prop)
-    return _settled(solid.copy())
+    # (merge_joints checks the faces that touch tangentially at a joint vertex; so here)
+    return brep.tangent_touches_settled(_settled(solid.copy()), brep.on_planes(joints),
+                                        edges=False)
 
 
 def _sewn_closed(faces, tol, slack):
