@@ -21,15 +21,9 @@ import Part  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.geometry.errors import DeformError  # noqa: E402
 
-from .oracles.mesh import assert_closed_manifold  # noqa: E402
+from .oracles.mesh import arrays, assert_closed_manifold  # noqa: E402
 
 V = App.Vector
-
-
-def arrays(mesh):
-    points, facets = mesh.Topology
-    return (np.array([tuple(p) for p in points], float).reshape(-1, 3),
-            np.array(facets, np.int64).reshape(-1, 3))
 
 
 def exit_status(fn):

@@ -19,6 +19,8 @@ import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 
+from ..oracles.mesh import arrays  # noqa: E402
+
 V = App.Vector
 F32 = 1e-6   # the stored mesh is float32: 40.0 is exact, 50 +- 2e-6 is not
 
@@ -33,11 +35,6 @@ def mesh_of(solid, fe_like):
         return MeshPart.meshFromShape(Shape=solid, MaxLength=3.0)
     return MeshPart.meshFromShape(Shape=solid, LinearDeflection=0.1, AngularDeflection=0.5,
                                   Relative=False)
-
-
-def arrays(mesh):
-    points, facets = mesh.Topology
-    return np.array([tuple(p) for p in points]), np.array(facets, dtype=np.int64)
 
 
 def circle(points):

@@ -13,12 +13,9 @@ import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 
+from ..oracles.mesh import arrays  # noqa: E402
+
 V = App.Vector
-
-
-def arrays(mesh):
-    points, facets = mesh.Topology
-    return np.array([tuple(p) for p in points]), np.array(facets, dtype=np.int64)
 
 
 def plane(P):

@@ -20,17 +20,11 @@ from scipy.spatial import cKDTree  # noqa: E402
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.features.planes import MAX_SAMPLES  # noqa: E402
 
-from ..oracles.mesh import (distance_to_segments, expected_count,  # noqa: E402
+from ..oracles.mesh import (arrays, distance_to_segments, expected_count,  # noqa: E402
                                      section_segments)
 
 V = App.Vector
 ANGLE = 90.0
-
-
-def arrays(mesh):
-    points, facets = mesh.Topology
-    return (np.array([tuple(p) for p in points], float).reshape(-1, 3),
-            np.array(facets, np.int64).reshape(-1, 3))
 
 
 def volume(V, T):

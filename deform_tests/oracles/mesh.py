@@ -17,6 +17,14 @@ def blob(count=500, seed=1):
     return p, T
 
 
+def arrays(mesh):
+    """(vertices (N, 3) float, triangles (M, 3) int64) of a FreeCAD Mesh, read through its
+    Topology (the tests' own reading, not the add-on's conversion)."""
+    points, facets = mesh.Topology
+    return (np.array([tuple(p) for p in points], float).reshape(-1, 3),
+            np.array(facets, np.int64).reshape(-1, 3))
+
+
 def volume(V, T):
     """Signed enclosed volume by the divergence theorem."""
     return np.linalg.det(V[T]).sum() / 6
