@@ -237,8 +237,7 @@ def slab_deviation(V, T, o, n, gap, samples, angle, axis_point, axis_direction, 
     d = np.sqrt(d2)
     if bend:
         d += abs(1.0 - slope) * h
-    c1 = abs(angle) * slope / gap
-    A = c1 * c1 + abs(angle) * curvature / gap ** 2 + (curvature / gap if bend else 0.0)
+    c1, A = _rates(angle, gap, slope, curvature, bend)
     out[rows] = bound = (A * r * h * h + 2.0 * c1 * h * d) / 6.0
     if tol is not None:                       # the triangles over tol get their own r
         over = np.flatnonzero(bound > tol)
@@ -247,6 +246,13 @@ def slab_deviation(V, T, o, n, gap, samples, angle, axis_point, axis_direction, 
         out[rows.take(over)] = (A * own * h.take(over) ** 2 + 2.0 * c1 * h.take(over)
                                 * d.take(over)) / 6.0
     return out
+
+
+def _rates(angle, gap, slope, curvature, bend):
+    """(c1, A) of slab_deviation's bound: the turn's rate along n, |angle| slope / gap, and
+    the factor of r v_s^2 in the map's second derivative."""
+    c1 = abs(angle) * slope / gap
+    return c1, c1 * c1 + abs(angle) * curvature / gap ** 2 + (curvature / gap if bend else 0.0)
 
 
 def follow_map(V, T, o, n, gap, samples, angle, axis_point, axis_direction, slope=1.0,
@@ -275,8 +281,7 @@ def follow_map(V, T, o, n, gap, samples, angle, axis_point, axis_direction, slop
     h = gap / samples
     k = np.asarray(axis_direction, float).reshape(3)
     k = k / np.linalg.norm(k)
-    c1 = abs(angle) * slope / gap
-    A = c1 * c1 + abs(angle) * curvature / gap ** 2 + (curvature / gap if bend else 0.0)
+    c1, A = _rates(angle, gap, slope, curvature, bend)
     def deviation(V, T):
         return slab_deviation(V, T, o, n, gap, samples, angle, axis_point, axis_direction,
                               slope, curvature, bend, tol)
