@@ -85,22 +85,38 @@ def prism_mesh(section, levels):
     return Mesh.Mesh([[V(*P[i]) for i in t] for t in T])
 
 
-class TestTwistFarFromTheAxis:
+# the tilted quadrilateral and the y stations of both classes' prism
+TILTED = ([(0.0233, 0.1910), (0.0999, 0.1677), (0.1252, 0.2657), (0.0485, 0.2880)],
+          (-0.37, 0.0, 0.37))
+
+
+class PrismDocument:
+    """A document holding the prism over TILTED as the Base mesh."""
+
+    def setup_method(self):
+        self.doc = fc.new_document(type(self).__name__)
+        self.base = self.doc.addObject("Mesh::Feature", "Prism")
+        self.base.Mesh = prism_mesh(*TILTED)
+
+    def teardown_method(self):
+        App.closeDocument(self.doc.Name)
+
+
+def assert_refused_or_clean(obj, prop):
+    """A refusal naming `prop`, or an Up-to-date result without crossing facets."""
+    if "Invalid" in obj.State:
+        assert prop in obj.getStatusString()
+        return
+    assert not crossing_pairs(*arrays(obj.Mesh)), "crossing facets in an Up-to-date result"
+
+
+class TestTwistFarFromTheAxis(PrismDocument):
     """trimesh's multibody.stl twisted at z 70 % about its default axis (its flipped facets
     put the section's centroid some 4000 sizes away): each slab turns the part far from
     the axis by a long shear, and at Samples 16 the box's flat facets crossed, 14 pairs,
     Up-to-date. Here a tilted box 0.08 x 0.74 x 0.1, twisted 30 deg between z = 0.186 and
     0.220 about a z axis 4200 away, as in that model: a prism along y over a tilted
     quadrilateral, with a ring at y = 0."""
-
-    def setup_method(self):
-        self.doc = fc.new_document("UnseenTwistFar")
-        self.base = self.doc.addObject("Mesh::Feature", "Box")
-        self.base.Mesh = prism_mesh([(0.0233, 0.1910), (0.0999, 0.1677), (0.1252, 0.2657),
-                                     (0.0485, 0.2880)], (-0.37, 0.0, 0.37))
-
-    def teardown_method(self):
-        App.closeDocument(self.doc.Name)
 
     def twist(self, samples):
         n = V(0, 0, 1)
@@ -112,12 +128,7 @@ class TestTwistFarFromTheAxis:
 
     def test_coarse_samples_refused_or_clean(self):
         assert not crossing_pairs(*arrays(self.base.Mesh))
-        obj = self.twist(16)
-        if "Invalid" in obj.State:
-            assert "Samples" in obj.getStatusString()
-            return
-        X, T = arrays(obj.Mesh)
-        assert not crossing_pairs(X, T), "crossing facets in an Up-to-date result"
+        assert_refused_or_clean(self.twist(16), "Samples")
 
     def test_enough_samples_up_to_date_and_clean(self):
         obj = self.twist(64)
@@ -127,22 +138,13 @@ class TestTwistFarFromTheAxis:
         assert not crossing_pairs(X, T)
 
 
-class TestTwoPlaneBendOfAPrism:
+class TestTwoPlaneBendOfAPrism(PrismDocument):
     """The same prism bent between z = 0.186 and 0.220 about a line along y in Plane (the
     two-plane mesh Bend runs the Twist's kernel): bent toward the near part (the far part
     swinging into it) the region was swept through the near part, 10 crossing pairs,
     Up-to-date (the one-plane Bend and the solids refuse it naming Angle); bent away about
     a line 3500 away, at Samples 16 each slab's facets sheared through each other, 24
     pairs, Up-to-date."""
-
-    def setup_method(self):
-        self.doc = fc.new_document("UnseenBendPrism")
-        self.base = self.doc.addObject("Mesh::Feature", "Prism")
-        self.base.Mesh = prism_mesh([(0.0233, 0.1910), (0.0999, 0.1677), (0.1252, 0.2657),
-                                     (0.0485, 0.2880)], (-0.37, 0.0, 0.37))
-
-    def teardown_method(self):
-        App.closeDocument(self.doc.Name)
 
     def bend(self, angle, axis_x, samples):
         n = V(0, 0, 1)
@@ -153,18 +155,10 @@ class TestTwoPlaneBendOfAPrism:
         return obj
 
     def test_toward_the_near_part_refused(self):
-        obj = self.bend(30.0, -20.0, 64)
-        if "Invalid" in obj.State:
-            assert "Angle" in obj.getStatusString()
-            return
-        assert not crossing_pairs(*arrays(obj.Mesh)), "crossing facets in an Up-to-date result"
+        assert_refused_or_clean(self.bend(30.0, -20.0, 64), "Angle")
 
     def test_far_axis_coarse_refused_or_clean(self):
-        obj = self.bend(-30.0, -3500.0, 16)
-        if "Invalid" in obj.State:
-            assert "Samples" in obj.getStatusString()
-            return
-        assert not crossing_pairs(*arrays(obj.Mesh)), "crossing facets in an Up-to-date result"
+        assert_refused_or_clean(self.bend(-30.0, -3500.0, 16), "Samples")
 
     def test_far_axis_enough_samples_clean(self):
         obj = self.bend(-30.0, -3500.0, 64)
