@@ -603,13 +603,16 @@ def _cut(V, T, W, u, maybe, levels, room, gap, samples, eps, motion_of_s):
                                       motion_of_s)
     tris, quads = _pieces(point, a, b, c, ub, uc, odd, planes, e)
     K = len(P)
-    if N + K + len(quads) > room:             # (room for a centre in every quadrilateral)
-        W = np.concatenate([W[:N], np.empty((K + len(quads), 3))])
+    if N + K > room:
+        W = np.concatenate([W[:N], np.empty((K, 3))])
     W[N:N + K] = P
     del P
     fans, centres, across = _fanned(quads, W[:N + K], motion_of_s, eps)
-    W = W[:N + K + len(centres)]
-    W[N + K:] = centres
+    if N + K + len(centres) > len(W):         # (grown only for the centres there are)
+        W = np.concatenate([W[:N + K], centres])
+    else:
+        W = W[:N + K + len(centres)]
+        W[N + K:] = centres
     del centres
     new = without_flat(np.concatenate([tris, _split(fans, across, quads, N + K)]))
     return W, _without_fins(new, N + merged, len(W)) if len(merged) else new, rows
