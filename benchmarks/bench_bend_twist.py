@@ -10,7 +10,8 @@ Run from anywhere (FreeCAD 0.20 on Debian):
 Prints tables, asserts nothing about time. Timing, inputs and output are bench_stretch's
 (imported from it): each row is the median of --runs runs, a row whose --runs runs would
 exceed --budget seconds gets 3. The floor is what any split-sweep-join implementation has
-to pay, measured on the same input in the same run:
+to pay, measured on the same input in the same run (for the B-rep rows run by run in turn
+with ours, so that a change of load weighs on both):
 
   Bend    the raw OCCT split of the solid at the plane (solid.generalFuse([plane face])),
           the revolve of the section faces about the axis (face.revolve) and the fuse of
@@ -208,8 +209,8 @@ def brep_rows(timer, doc, name, solid, setup, floor, label, alone=None):
     obj = setup.make(base)
     if "Invalid" in obj.State:
         raise RuntimeError(f"{label}: {obj.getStatusString()}")
-    ours, n, parts, total = timer.profiled_median(recompute(doc, obj), BREP_CALLS)
-    low, _ = timer.median(lambda: floor(solid, setup), n)
+    ours, n, parts, total, low = timer.paired_median(recompute(doc, obj),
+                                                     lambda: floor(solid, setup), BREP_CALLS)
     size = f"{len(solid.Faces)} faces"
     rows = [(label, size, n, ours, low)]
     if alone:
