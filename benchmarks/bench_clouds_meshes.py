@@ -14,7 +14,10 @@ faults()). The floor is measured in the same process, right after:
 
   Stretch  numpy V + (s > 0)[:, None] * d * n over the same points
   Bend     numpy P @ R.T + t (the far part's rigid turn) over the same points
-  Twist    the same rigid transform (the turn by the whole angle)
+  Twist    the same rigid transform (the turn by the whole angle); beside it the turn
+           floor (every point turned by its own angle) and, for meshes, the passes floor
+           (that turn, the test which triangles straddle a plane and a copy of the
+           triangles: passes_floor_fn), printed with its own ratio to the floor
 
 The inputs: the sample part (face_recognition_sample_part.stp) tessellated at 1 mm and
 subdivided 1-to-4 five times (1.2 M triangles), and 10^6 points sampled uniformly on it.
@@ -147,6 +150,22 @@ def turn_floor_fn(points, axis_point):
     return floor
 
 
+def passes_floor_fn(points, triangles, axis_point):
+    """The mesh Twist's third floor: the passes over the whole mesh any cut-and-turn makes,
+    in bare numpy on one core: every vertex turned (the turn floor), the test which
+    triangles straddle a plane (their corners' cells between the Samples planes), and a
+    copy of the triangles (the result's rows)."""
+    turn = turn_floor_fn(points, axis_point)
+    o, gap = TWIST["origin"], TWIST["gap"]
+
+    def floor():
+        turned = turn()
+        cells = np.floor((points - o) @ X * (SAMPLES / gap)).astype(np.int16).take(triangles)
+        straddle = np.flatnonzero((cells[:, 0] != cells[:, 1]) | (cells[:, 1] != cells[:, 2]))
+        return turned, straddle, triangles.copy()
+    return floor
+
+
 def make_feature(op, base):
     import freecad_deform as fd
     if op == "Stretch":
@@ -201,12 +220,16 @@ def run_row(name, data_dir, runs, budget):
     before = faults()
     floor, m = timer.median(floor_fn(op, points), max(n, 5))
     floor_faults = (faults() - before) / m
-    turn_floor = None
+    turn_floor = passes_floor = None
     if op == "Twist":
         axis_point = twist_axis(base.Mesh if kind == "mesh" else data)[0]
         turn_floor, _ = timer.median(turn_floor_fn(points, axis_point), max(n, 5))
+        if kind == "mesh":
+            passes_floor, _ = timer.median(passes_floor_fn(points, data[1], axis_point),
+                                           max(n, 5))
     parts, total = profiled(fn, CALLS) if what == "recompute" else ({}, 0.0)
     print(json.dumps(dict(name=name, runs=n, ours=ours, floor=floor, turn_floor=turn_floor,
+                          passes_floor=passes_floor,
                           faults=(ours_faults, floor_faults), base_rss=base_rss,
                           peak_rss=peak if clean else None, out=int(size), parts=parts,
                           total=total)))
@@ -346,11 +369,13 @@ def main(argv=None):
                 sys.exit(f"{name} failed:\n{child.stderr}")
             r = json.loads(child.stdout.strip().splitlines()[-1])
             peak = "?" if r["peak_rss"] is None else f"{r['peak_rss']:.0f}"
-            turned = r["turn_floor"]
+            turned, passes = r["turn_floor"], r["passes_floor"]
             rows.append((name, sizes[kind], r["runs"], seconds(r["ours"]), seconds(r["floor"]),
                          f"{r['ours'] / r['floor']:.1f}",
                          "" if turned is None else seconds(turned),
                          "" if turned is None else f"{r['ours'] / turned:.1f}",
+                         "" if passes is None else seconds(passes),
+                         "" if passes is None else f"{passes / r['floor']:.1f}",
                          f"{r['faults'][0]:.0f} / {r['faults'][1]:.0f}",
                          f"{r['base_rss']:.0f}", peak, f"{r['out']:,}"))
             goal, met = target(kind, op, what, r, peer)
@@ -364,6 +389,7 @@ def main(argv=None):
                             f"peak {peak} MB")
     print_table("Point clouds and meshes: ours vs the numpy floor (seconds, median; RSS in MB)",
                 ("case", "input", "runs", "ours", "floor", "ratio", "turn floor", "ratio",
+                 "passes floor", "its ratio to the floor",
                  "page faults a run (ours / floor)", "base RSS", "peak RSS", "output"), rows)
     if isinstance(peer, dict):
         print_table(f"Blender {peer['version']} Simple Deform (blender -b, median of "
