@@ -5,7 +5,8 @@ stays, the far part moves by the map's end transform, and every face of the regi
 through the map:
 - a face at one position s (a plane parallel to the planes) moves by A(s): exact;
 - under a twist, a face on a surface of revolution about the twist axis stays on its very
-  surface; only its pcurves change, u -> u + angle(s) (fitted in 2D to the tolerance);
+  surface; only its pcurves change, u -> u + angle(s) (fitted in 2D to the tolerance),
+  after the face is cut into pieces that stay within one period of u (_within_period);
 - under an affine map (a Linear stretch) a plane stays a Part.Plane through its mapped
   edges;
 - any other plane: a B-spline in the plane's (u, v) turned to run along its lines of
@@ -24,6 +25,7 @@ import numpy as np
 import Part
 
 from ..geometry.sweep import continuity
+from ..geometry.sweep.planes import frame
 from ..geometry.nurbs import surface_fit
 from ..geometry.nurbs.direct_push import knots_and_mults
 from ..geometry.errors import DeformError
@@ -172,13 +174,68 @@ def _mapped_faces(faces, smap, tol, points=None, what="A face"):
     _face_points, when the caller has them."""
     out, worst = [], 0.0
     for face, pts in zip(faces, points or [None] * len(faces)):
-        new, dev = map_face(face, smap, min(tol, SEW_FIT), pts)
-        if dev > tol:
-            raise DeformError(f"{what} cannot be fitted to Tolerance ({tol:.3g} mm; it is off "
-                              f"by {dev:.3g} mm); raise Tolerance.", "Tolerance")
-        out.append(new)
-        worst = max(worst, dev)
+        pts = _face_points(face) if pts is None else pts
+        pieces = _within_period(face, smap, pts)
+        for piece in pieces:
+            new, dev = map_face(piece, smap, min(tol, SEW_FIT),
+                                pts if len(pieces) == 1 else None)
+            if dev > tol:
+                raise DeformError(f"{what} cannot be fitted to Tolerance ({tol:.3g} mm; it is "
+                                  f"off by {dev:.3g} mm); raise Tolerance.", "Tolerance")
+            out.append(new)
+            worst = max(worst, dev)
     return out, worst
+
+
+def _within_period(face, smap, pts):
+    """A face of revolution about the twist axis cut into pieces that stay within one
+    period of u once turned ([face] when it does already). A whole band (a shaft's
+    cylinder, a sphere's zone) turned by any angle runs past its period, and OCCT's
+    sections and booleans lose the part past it (_past_period), so the band is cut along
+    meridians by half-planes from the axis into pieces at most half a period wide, and,
+    where the turn across it exceeds a quarter of a turn, by planes parallel to Plane into
+    bands that each turn by at most that: every piece then stays on the exact surface
+    (_turned_on_surface) instead of being fitted. The cuts are OCCT's general fuse of the
+    face with those faces."""
+    surface = face.Surface
+    if getattr(smap, "twist_axis", None) is None or surface.TypeId not in REVOLUTION or \
+            not surface.isUPeriodic() or not _coaxial(surface, *smap.twist_axis):
+        return [face]
+    period = surface.UPeriod()
+    u0, u1, v0, v1 = face.ParameterRange
+    s = smap.s(pts)                               # (clamped to the region)
+    turn = abs(smap.angle_of(float(s.max())) - smap.angle_of(float(s.min())))
+    if u1 - u0 + turn <= period * (1 - 1e-9) or turn < 1e-12:
+        return [face]
+    import FreeCAD as App
+    centre, k = smap.twist_axis
+    size = 2.0 * (face.BoundBox.DiagonalLength + np.linalg.norm(
+        np.array(tuple(face.BoundBox.Center)) - centre)) + 1.0
+
+    def quad(corners):
+        return Part.Face(Part.makePolygon([App.Vector(*c) for c in corners + corners[:1]]))
+
+    tools = []
+    cuts = max(2, int(np.ceil((u1 - u0) / (0.5 * period))))
+    for u in u0 + (u1 - u0) * np.arange(1, cuts) / cuts:   # half-planes at the meridians
+        r = np.array(tuple(surface.value(u, 0.5 * (v0 + v1)))) - centre
+        r = unit(r - (r @ k) * k)
+        if not r.any():                       # (the face's middle on the axis)
+            return [face]
+        tools.append(quad([centre - size * k, centre + size * k, centre + size * (k + r),
+                           centre + size * (r - k)]))
+    bands = int(np.ceil(turn / (0.5 * np.pi)))
+    a, b, _ = frame(smap.normal)
+    for level in s.min() + (s.max() - s.min()) * np.arange(1, bands) / bands:
+        o = smap.origin + level * smap.gap * smap.normal
+        tools.append(quad([o + size * (a + b), o + size * (b - a), o - size * (a + b),
+                           o + size * (a - b)]))
+    try:
+        _, parts = face.generalFuse(tools)
+    except Part.OCCError:
+        return [face]
+    pieces = parts[0] if parts else []
+    return pieces if len(pieces) > 1 else [face]
 
 
 def _shared_on_plane(a, b, origin, normal):
