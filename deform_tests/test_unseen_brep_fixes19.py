@@ -109,7 +109,7 @@ def test_the_check_costs_nothing_where_no_face_is_free_form(monkeypatch):
             plate = plate.cut(Part.makeCylinder(3, 6, V(x, y, 0)))
     plate = plate.Solids[0]
     calls = []
-    for name in ("bop_errors", "_tangent_at_vertex", "_turns_over"):   # a pair looked at
+    for name in ("bop_report", "_tangent_at_vertex", "_turns_over"):   # a pair looked at
         real = getattr(brep, name, None)
         if real is not None:
             monkeypatch.setattr(brep, name, lambda *a, real=real, name=name: calls.append(

@@ -99,10 +99,9 @@ def map_solid(solid, smap, tol, prop="Tolerance", zones=None):
                           f"shells became {len(result.Shells)}); move Plane or Plane2 a "
                           f"little, off the voids' poles and seams.", "Plane2")
     # where two faces touch tangentially at a joint, tolerances raised up to Tolerance until
-    # OCCT's BOP check of the two finds no crossing (past it the solid as it is: the
-    # smooth taper of the real-parts housing occt_Bottom meets such a pair)
+    # OCCT's BOP check of the two finds no crossing; past it a refusal naming `prop`
     return brep.tangent_touches_settled(result, brep.on_planes(joints), tol,
-                                        vertices=local), worst
+                                        vertices=local, prop=prop), worst
 
 
 def _joined_locally(near, cut, far, far_cut, mapped, end, joints, deviation):
