@@ -11,6 +11,8 @@ through the map:
   edges;
 - any other plane: a B-spline in the plane's (u, v) turned to run along its lines of
   constant s, which every map keeps straight: degree 1 along them, fitted only up the slope;
+  put on a Part.Plane where that fit is planar (a Linear Taper of a plane parallel to the
+  normal), as the planes of a far part that the map's end scales are;
 - every other face: a B-spline fitted to the mapped points in the face's own (u, v)
   parametrisation (geometry.nurbs.surface_fit), the face rebuilt from its own pcurves;
   where its parameter rectangle reaches a fold of the map continued past the planes, the
@@ -268,6 +270,9 @@ def _moved_faces(faces, matrix, tol):
         # sewing them again refits a real file's loose edges (areas off by 1e-6)
         return brep.transformed([Part.makeCompound(faces)], m)[0].Faces, 0.0
     out = [_fitted(f, lambda p: p @ m[:3, :3].T + m[:3, 3], tol) for f in faces]
+    # an affine map takes a plane to a plane: put back on it exactly
+    out = [(_on_surface(g, _plane_of(g)), d) if f.Surface.TypeId == "Part::GeomPlane" else
+           (g, d) for f, (g, d) in zip(faces, out)]
     return [f for f, _ in out], max([d for _, d in out], default=0.0)
 
 
@@ -421,9 +426,11 @@ def map_face(face, smap, tol, points=None):
         built, dev = _fitted_plane(face, smap, tol)
     else:
         built, dev = _fitted(face, lambda p: smap(p, clamp=False), tol, smap)
+    if face.Surface.TypeId == "Part::GeomPlane" and (getattr(smap, "affine", False)
+                                                     or _planar(built)):
+        # (a Linear Taper keeps a plane parallel to its normal a plane: on it exactly)
+        return _on_surface(built, _plane_of(built)), dev
     if getattr(smap, "affine", False):
-        if face.Surface.TypeId == "Part::GeomPlane":
-            return _on_surface(built, _plane_of(built)), dev
         if along:
             return _on_surface(built, face.Surface.copy()), dev
     return built, dev
@@ -445,6 +452,21 @@ def _stretched_rectangle(face, smap):
 def _parallel(direction, normal, tol=1e-12):
     return np.linalg.norm(np.cross(unit(np.array(tuple(direction), float)),
                                    unit(np.asarray(normal, float)))) < tol
+
+
+# the farthest a fitted face's poles may lie from one plane for the face to be put on it
+# (its surface lies in their convex hull); fits of exact planes came within 3e-11 mm
+PLANAR = 1e-9
+
+
+def _planar(built):
+    """Does the fitted face's B-spline surface lie in one plane (its poles within PLANAR)?"""
+    if not isinstance(built.Surface, Part.BSplineSurface):
+        return False
+    poles = np.array([tuple(p) for row in built.Surface.getPoles() for p in row], float)
+    centre = poles.mean(axis=0)
+    normal = np.linalg.svd(poles - centre)[2][2]
+    return float(np.abs((poles - centre) @ normal).max()) <= PLANAR
 
 
 def _plane_of(built):
