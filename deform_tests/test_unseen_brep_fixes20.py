@@ -1,13 +1,19 @@
 """Faces that touch tangentially at a joint and still cross where the tolerances at the joint
 may rise no further (brep.tangent_touches_settled past its cap, the feature's Tolerance on
 the mapped path): the result was returned as it was, valid, Up-to-date and failing OCCT's
-BOP check (SelfIntersect). See /work/notes/brep20.md.
+BOP check (SelfIntersect). And a Linear Taper's planes, whose images are planes, were
+B-splines (flat to 3e-11 mm), which the joint check took for free-form faces (seconds a
+pair on OCCT's Pump_TopCover).
 
-Oracles: OCCT's isValid and BOP check (Shape.check(True)); the refusal's property.
+Oracles: OCCT's isValid and BOP check (Shape.check(True)); the refusal's property; the
+frustum's closed-form volume.
 """
+import pytest
+
 from .features import fc  # noqa: F401  (FreeCAD on sys.path)
 
 import FreeCAD as App  # noqa: E402
+import Part  # noqa: E402
 
 import freecad_deform as fd  # noqa: E402
 from freecad_deform.geometry.errors import DeformError  # noqa: E402
@@ -50,3 +56,25 @@ def test_touch_past_tolerance_is_refused_naming_tolerance():
     finally:
         App.closeDocument(doc.Name)
 
+
+
+def test_a_linear_taper_keeps_a_box_all_planes():
+    """A 20 x 20 x 100 box about the z axis tapered (Linear) from 1 at z = 40 to 0.8 at
+    z = 60: every face of the region and of the scaled far part is flat, and each is a
+    Part.Plane (they were B-splines); the volume is the closed form 400 (40 + 20 (1 + 0.8 +
+    0.64) / 3 + 0.64 * 40)."""
+    doc = fc.new_document("TaperPlanes20")
+    try:
+        base = doc.addObject("Part::Feature", "Base")
+        base.Shape = Part.makeBox(20, 20, 100, V(-10, -10, 0))
+        obj = fd.make_taper(base, (V(0, 0, 40), V(0, 0, 1)), (V(0, 0, 60), V(0, 0, 1)), 0.8,
+                            axis=(V(0, 0, 0), V(0, 0, 1)))
+        assert obj.State == ["Up-to-date"], obj.getStatusString()
+        result = obj.Shape
+        assert result.isValid()
+        result.check(True)
+        assert {f.Surface.TypeId for f in result.Faces} == {"Part::GeomPlane"}
+        assert result.Volume == pytest.approx(400 * (40 + 20 * 2.44 / 3 + 0.64 * 40),
+                                              rel=1e-9)
+    finally:
+        App.closeDocument(doc.Name)
