@@ -17,31 +17,56 @@ CHUNK = 200000   # candidate pairs tested at once (memory)
 def _candidates(X, T, moved):
     """Pairs (i, j), i < j, one of them moved, sharing no vertex, whose bounding spheres
     (about the centroid) meet: k-d trees per size class of the triangles (radii binned by
-    factors of 2), each pair of classes searched within the sum of their largest radii."""
+    factors of 2), each pair of classes searched within the sum of their largest radii.
+    Pairs whose boxes are apart, or where one triangle's sphere lies wholly on one side of
+    the other's plane (beyond a relative 1e-6), cannot cross or touch and are left out (a
+    large flat facet's sphere meets thousands that its plane does not, a needle's sphere
+    thousands that its box does not)."""
     tri = X[T]
     centre = tri.mean(axis=1)
     radius = np.linalg.norm(tri - centre[:, None], axis=2).max(axis=1)
     movers = np.nonzero(moved)[0]
     if len(movers) == 0:
         return np.zeros((0, 2), np.int64)
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    offset = np.einsum("ij,ij->i", normal, centre)
+    low, high = tri.min(axis=1), tri.max(axis=1)
+
+    def apart(i, j):                      # j's sphere wholly on one side of i's plane
+        d = np.abs(np.einsum("ij,ij->i", centre[j], normal[i]) - offset[i])
+        slack = 2e-6 * (radius[i] + radius[j])
+        return (d > radius[j] + slack) | ((low[i] > high[j] + slack[:, None])
+                                           | (low[j] > high[i] + slack[:, None])).any(axis=1)
+
     level = np.floor(np.log2(np.maximum(radius, 1e-300) / max(radius.max(), 1e-300)))
     level = np.maximum(level, -40)
-    classes = [np.nonzero(level == k)[0] for k in np.unique(level)]
-    trees = [cKDTree(centre[c]) for c in classes]
+    order = np.argsort(level, kind="stable")
+    _, first = np.unique(level.take(order), return_index=True)
+    classes = np.split(order, first[1:])
+    largest = [float(radius.take(c).max()) for c in classes]
+    trees = [cKDTree(centre.take(c, axis=0)) for c in classes]
     pairs = []
     for ca in classes:
-        a = ca[moved[ca]]
+        a = ca[moved.take(ca)]
         if len(a) == 0:
             continue
-        tree_a = cKDTree(centre[a])
-        for cb, tree_b in zip(classes, trees):
-            found = tree_a.sparse_distance_matrix(tree_b, radius[a].max() + radius[cb].max(),
-                                                  output_type="ndarray")
-            i, j = a[found["i"]], cb[found["j"]]
-            keep = found["v"] <= radius[i] + radius[j]
-            pairs.append(np.column_stack([i[keep], j[keep]]))
-    p = np.sort(np.concatenate(pairs), axis=1)
-    p = np.unique(p[p[:, 0] != p[:, 1]], axis=0)
+        tree_a = cKDTree(centre.take(a, axis=0))
+        reach = float(radius.take(a).max())
+        for cb, tree_b, big in zip(classes, trees, largest):
+            found = tree_a.sparse_distance_matrix(tree_b, reach + big, output_type="ndarray")
+            i, j = a.take(found["i"]), cb.take(found["j"])
+            keep = found["v"] <= radius.take(i) + radius.take(j)
+            i, j = i[keep], j[keep]
+            keep = i != j
+            i, j = i[keep], j[keep]
+            keep = ~apart(i, j)
+            i, j = i[keep], j[keep]
+            keep = ~apart(j, i)
+            i, j = i[keep], j[keep]
+            pairs.append(np.minimum(i, j) * len(T) + np.maximum(i, j))
+    key = np.unique(np.concatenate(pairs))
+    p = np.column_stack([key // len(T), key % len(T)])
     shared = (T[p[:, 0], :, None] == T[p[:, 1], None, :]).any(axis=(1, 2))
     return p[~shared]
 

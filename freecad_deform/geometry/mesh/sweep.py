@@ -313,48 +313,32 @@ def map_following(V, T, o, n, gap, motion_of_s, samples, eps, angle, axis_point,
     """map_between, checked where its flat pieces may stray far enough from the map to cross
     (the op's entry for a mesh Twist and a two-plane mesh Bend; map_between alone is the
     kernel). When some triangle's slab_deviation exceeds CHECK x the bounding-box diagonal,
-    the result is searched for facets that cross (intersect.self_crossings, the pieces of
-    the region and the triangles with a corner inside it against all: the parts before
-    Plane and beyond Plane2 move rigidly, and apart); if it has some the Base does not, the mesh is refined by follow_map (to FOLLOW)
-    and mapped again, and refused, naming Samples, if that still crosses. A result without
-    crossings comes back as map_between gives it (the triangles of the cut alone)."""
+    the pieces of the triangles whose own bound exceeds FOLLOW (half of CHECK: two pieces
+    straying less than that each stray less than CHECK together) are searched for facets
+    they cross (_edit_crossings), pieces of two triangles that already cross in the Base
+    not counting; if some cross, the mesh is refined by follow_map (to FOLLOW) and
+    mapped again, and refused, naming Samples, if the refined triangles' pieces still cross.
+    A result without crossings comes back as map_between gives it (the triangles of the
+    cut alone)."""
     V, T = arrays(V, T, copy=False)
     W, F = map_between(V, T, o, n, gap, motion_of_s, samples, eps)
     diagonal = float(np.linalg.norm(np.ptp(V, axis=0))) if len(V) else 0.0
-    dev = slab_deviation(V, T, o, n, gap, samples, angle, axis_point, axis_direction, slope,
-                         curvature, bend)
+    bound = (o, n, gap, samples, angle, axis_point, axis_direction, slope, curvature, bend)
+    dev = slab_deviation(V, T, *bound)
     if not len(T) or not dev.max() > CHECK * diagonal:
         return W, F
-    from .intersect import self_crossings
-    s = (V - o) @ n
-    inside = (s > 0) & (s < gap)
-
-    margin = 2.0 * float(dev.max())
-    keeps_s = not bend and abs(abs(float(np.dot(unit(axis_direction, "Axis").reshape(3), n)))
-                               - 1.0) < 1e-12
-
-    def crossings(W, F, N):
-        """The crossing pairs with a triangle the map moves but not rigidly (a piece of the
-        cut, or one with a corner between the planes) in it; a twist about the normal
-        keeps s, so only the triangles reaching margin of the region can meet those."""
-        c = np.concatenate([inside, np.ones(len(W) - N + 1, bool)])   # (new vertices: cut)
-        among = c.take(np.minimum(F, N)).any(axis=1)
-        if keeps_s:
-            sw = ((W - o) @ n).take(F)
-            near = ~(((sw < -margin).all(axis=1)) | ((sw > gap + margin).all(axis=1)))
-            F, among = F[near], among[near]
-        return self_crossings(W, F, among)
-
-    span = s.take(T)
-    reach = ~(((span <= 0).all(axis=1)) | ((span >= gap).all(axis=1)))
-    if not crossings(W, F, len(V)) or self_crossings(V, T, reach):
+    cut = (o, n, gap, samples, eps, motion_of_s)
+    tol = FOLLOW * diagonal
+    strays = np.flatnonzero(slab_deviation(V, T, *bound, tol=tol) > tol)
+    if not _edit_crossings(V, T, W, F, strays, cut):
         return W, F
     Vf, Tf, risky = follow_map(V, T, o, n, gap, samples, angle, axis_point, axis_direction,
-                               slope, curvature, bend)
+                               slope, curvature, bend, tol)
     W, F = map_between(Vf, Tf, o, n, gap, motion_of_s, samples, eps)
-    s = (Vf - o) @ n
-    inside = (s > 0) & (s < gap)
-    crossed = crossings(W, F, len(Vf))
+    # the split triangles (each piece has a new vertex) and those still over tol
+    split = Tf.max(axis=1) >= len(V) if len(Tf) else np.zeros(0, bool)
+    strays = np.flatnonzero(split | (slab_deviation(Vf, Tf, *bound, tol=tol) > tol))
+    crossed = _edit_crossings(Vf, Tf, W, F, strays, cut)
     if crossed:
         raise DeformError(
             f"The {what} bends the mesh's flat facets through each other: {crossed} pairs "
@@ -363,6 +347,98 @@ def map_following(V, T, o, n, gap, motion_of_s, samples, eps, angle, axis_point,
             f"slivers, or parts far from the axis); raise Samples, lower Angle or move Plane2 "
             f"farther.", "Samples")
     return W, F
+
+
+def _edit_crossings(V, T, W, F, rows, cut):
+    """How many pairs of facets of (W, F) = map_between(V, T, *cut) cross (intersect:
+    an edge of one through the other, the two sharing no vertex) with one of them a piece
+    of a triangle in `rows`, not counting pieces of two triangles that already cross in
+    (V, T): those the edit did not make. (Touching ones count: trimesh's 7_8ths_cube has a
+    corner on another facet's edge, and its twist crossed them there.) The Base is
+    searched only when the pieces cross something."""
+    from . import intersect
+    if not len(rows):
+        return 0
+    mask = np.zeros(len(T), bool)
+    mask[rows] = True
+
+    def search(S):
+        X, G, source = _pieces_found(V, T, W, F, S, cut)
+        among = (source >= 0) & mask.take(np.maximum(source, 0))
+        pairs = intersect._candidates(X, G, among)
+        pairs = pairs[intersect.crossing(X, G, pairs)] if len(pairs) else pairs
+        return source.take(pairs[:, 0]), source.take(pairs[:, 1])
+
+    a, b = search(np.asarray(rows, np.int64))
+    if not len(a):
+        return 0
+    pairs = intersect._candidates(V, T, mask)
+    before = pairs[intersect.crossing(V, T, pairs)] if len(pairs) else pairs
+    if not len(before):
+        return len(a)
+    a, b = search(np.union1d(rows, before.reshape(-1)))   # (their partners' pieces known)
+    M = len(T)
+    old = (a >= 0) & (b >= 0) & np.isin(np.minimum(a, b) * M + np.maximum(a, b),
+                                        np.sort(before, axis=1) @ np.array([M, 1]))
+    return int(np.count_nonzero(~old))
+
+
+def _pieces_found(V, T, W, F, S, cut):
+    """(X, G, source): the result (W, F) = map_between(V, T, *cut) and, for each of its
+    facets, the row of T it is a piece of where that is known (-1 otherwise): the rows
+    the cut left as they were, and the pieces of the triangles S.
+
+    slab_cut does not say which input triangle a piece comes from, so S is cut again on
+    its own (each triangle with its own copies of its corners, so that its pieces are one
+    connected set), and its pieces are found in (W, F) by their vertices' places. Pieces
+    of S not found so (where the two cuts differ) are appended to (X, G) as they are."""
+    o, n, gap, samples, eps, motion_of_s = cut
+    M, k = len(T), len(S)
+    # two loose vertices beyond both planes keep slab_cut's plane checks
+    Vs = np.concatenate([V.take(T.take(S, axis=0).reshape(-1), axis=0),
+                         [o - gap * n, o + 2.0 * gap * n]])
+    Ws, Fs = slab_cut(Vs, np.arange(3 * k).reshape(-1, 3), o, n, gap, samples, eps,
+                      motion_of_s)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+    e = np.concatenate([Fs[:, [0, 1]], Fs[:, [1, 2]]])
+    _, label = connected_components(coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])),
+                                               shape=(len(Ws), len(Ws))), directed=False)
+    owner = np.full(label.max() + 1, -1)
+    owner[label[3 * np.arange(k)]] = S
+    piece_of = owner.take(label.take(Fs[:, 0]))
+    close = 1e-9 * float(np.linalg.norm(np.ptp(W, axis=0)))
+    box = np.flatnonzero(((W >= Ws.min(axis=0) - close) & (W <= Ws.max(axis=0) + close))
+                         .all(axis=1))
+    _, at = cKDTree(W.take(box, axis=0)).query(Ws, distance_upper_bound=close)
+    index = np.where(at < len(box), box.take(np.minimum(at, len(box) - 1)), -1)
+    G = index.take(Fs)                                   # the pieces in W's numbering
+    source = np.full(len(F), -1)
+    if len(F) >= M:
+        same = np.flatnonzero((F[:M] == T).all(axis=1))
+        source[same] = same
+    key = np.sort(F, axis=1)
+    order = np.lexsort(key.T[::-1])
+    key = key[order]
+    want = np.sort(G, axis=1)
+    at = np.minimum(np.searchsorted(_rowkey(key), _rowkey(want)), len(key) - 1)
+    hit = (key.take(at, axis=0) == want).all(axis=1)
+    source[order.take(at[hit])] = piece_of[hit]
+    lost = ~hit & (piece_of >= 0)
+    if not lost.any():
+        return W, F, source
+    G, L = G[lost], Fs[lost]
+    extra = np.unique(L[G < 0])
+    G[G < 0] = len(W) + np.searchsorted(extra, L[G < 0])
+    return (np.concatenate([W, Ws.take(extra, axis=0)]), np.concatenate([F, G]),
+            np.concatenate([source, piece_of[lost]]))
+
+
+def _rowkey(R):
+    """Rows of three non-negative integers as one sortable key each (lexicographic)."""
+    R = np.ascontiguousarray(R, np.int64)
+    return R.view(np.dtype([("a", np.int64), ("b", np.int64), ("c", np.int64)])).reshape(-1)
 
 
 def _bisected(V, T, rows):
