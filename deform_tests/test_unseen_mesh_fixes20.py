@@ -12,6 +12,10 @@ triangles that cross in the Base.
 Oracles, independent of the code: the exact crossing test of test_unseen_mesh_fixes19
 (rational arithmetic over every pair of facets sharing no vertex), the facets' distance from
 the twist axis (which the twist keeps) and the mesh's connected pieces.
+
+Below that bound the pieces beside a needle facet (a crack where a corner lies on another
+facet's edge, filled by a facet of no width) are searched too: there the facets lie against
+each other, and any stray crosses them (trimesh's 7_8ths_cube twisted at Samples 256).
 """
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -26,7 +30,8 @@ import freecad_deform as fd  # noqa: E402
 from freecad_deform.geometry.mesh import intersect  # noqa: E402
 
 from .oracles.mesh import arrays  # noqa: E402
-from .test_unseen_mesh_fixes19 import TILTED, crossing_pairs, prism_mesh  # noqa: E402
+from .test_unseen_mesh_fixes19 import (TILTED, assert_refused_or_clean,  # noqa: E402
+                                        crossing_pairs, prism_mesh)
 
 V = App.Vector
 
@@ -143,3 +148,35 @@ class TestNewCrossingsBesideABaseCrossing(BaseDocument):
         prism = piece == np.bincount(piece).argmax()      # (the prism has the most facets)
         bad = [(a, b) for a, b in crossing_pairs(X, T) if prism[a] or prism[b]]
         assert not bad, f"{len(bad)} crossing pairs with a facet of the prism, Up-to-date"
+
+
+# a 40 mm cube without the octant x, y, z > 0, its faces triangulated end to end as CAD
+# exporters write them: the top face's diagonal from (20, -20, 20) to (-20, 20, 20) passes
+# the notch's corner (0, 0, 20), whose crack a needle facet (5, 2, 8) fills; the corner lies
+# 1e-5 off that diagonal, as float noise puts it
+NOTCHED = ([(-20, -20, 20), (-20, -20, -20), (-20, 20, 20), (-20, 20, -20), (0, 0, 0),
+            (-1e-5, 0, 20), (0, 20, 20), (0, 20, 0), (20, -20, 20), (20, 0, 0), (20, 0, 20),
+            (20, -20, -20), (20, 20, -20), (20, 20, 0)],
+           [(1, 12, 11), (12, 1, 3), (12, 7, 13), (6, 3, 2), (3, 7, 12), (7, 3, 6),
+            (13, 11, 12), (8, 9, 10), (9, 11, 13), (11, 9, 8), (0, 11, 8), (11, 0, 1),
+            (2, 1, 0), (1, 2, 3), (2, 5, 6), (8, 2, 0), (5, 8, 10), (5, 2, 8), (5, 7, 6),
+            (7, 5, 4), (13, 4, 9), (4, 13, 7), (9, 5, 10), (5, 9, 4)])
+
+
+class TestNeedleAtACrack(BaseDocument):
+    """The notched cube twisted 5 deg about its diagonal between 60 % of the box and a
+    tenth of its length beyond, Samples 16: the largest bound is 1.5e-3 of the diagonal,
+    under the 2e-3 that starts the search, and stop 19 left it Up-to-date with 9 crossing
+    pairs (the top facet's pieces through the notch's walls at the crack)."""
+
+    def test_refused_or_clean(self):
+        P, T = NOTCHED
+        self.base.Mesh = Mesh.Mesh([[V(*P[i]) for i in t] for t in T])
+        assert not crossing_pairs(*arrays(self.base.Mesh))
+        d = np.ones(3) / np.sqrt(3)
+        origin = np.full(3, 4.0)                          # 60 % of the box
+        far = origin + 10 / np.sqrt(3) * d                # a tenth of its extent along d
+        n = V(*d)
+        obj = fd.make_twist(self.base, (V(*origin), n), (V(*far), n), 5.0, (V(*origin), n))
+        self.doc.recompute()
+        assert_refused_or_clean(obj, "Samples")
