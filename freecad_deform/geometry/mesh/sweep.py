@@ -324,8 +324,9 @@ def map_following(V, T, o, n, gap, motion_of_s, samples, eps, angle, axis_point,
     they cross (_edit_crossings), pieces of two triangles that already cross in the Base
     not counting; if some cross, the mesh is refined by follow_map (to FOLLOW) and
     mapped again, and refused, naming Samples, if the refined triangles' pieces still cross.
-    A result without crossings comes back as map_between gives it (the triangles of the
-    cut alone)."""
+    Beside a needle facet (_beside_needles) the pieces are searched whenever some bound
+    exceeds NEEDLE_CHECK, and split to half their own bound if they cross. A result without
+    crossings comes back as map_between gives it (the triangles of the cut alone)."""
     V, T = arrays(V, T, copy=False)
     W, F = map_between(V, T, o, n, gap, motion_of_s, samples, eps)
     diagonal = float(np.linalg.norm(np.ptp(V, axis=0))) if len(V) else 0.0
