@@ -15,7 +15,8 @@ from ..errors import DeformError
 from ..blocks import BLOCK, compress_rows, in_parallel
 from .cut import arrays, placed, seam, split, without_flat
 from ..sweep.motion import apply, apply_each, fraction_matrices, rotation, translation
-from ..sweep.planes import check_crossing, signed_distance, unit_as_given, unit_normal
+from ..sweep.planes import (check_crossing, frame, signed_distance, unit_as_given,
+                           unit_normal)
 from ..vectors import skew, unit
 
 PASS_ROWS = 4 * BLOCK   # slab_cut's vertex pass: some 40 numpy calls a block, bound by their
@@ -222,10 +223,8 @@ def slab_deviation(V, T, o, n, gap, samples, angle, axis_point, axis_direction, 
     along = w @ k
     r2 = np.einsum("ij,ij->i", w, w)
     r2 -= along * along
-    across = n if bend else k
-    u = np.cross(across, [1.0, 0.0, 0.0] if abs(across[0]) < 0.9 else [0.0, 1.0, 0.0])
-    u /= np.linalg.norm(u)
-    plane = (V @ u, V @ np.cross(across, u))
+    u, v, _ = frame(n if bend else k)
+    plane = (V @ u, V @ v)
     corner = [Tr[:, j] for j in range(3)]
     S = [s.take(x) for x in corner]
     lo = np.clip(np.minimum(np.minimum(S[0], S[1]), S[2]), 0.0, gap)
@@ -408,13 +407,11 @@ def _edit_crossings(V, T, W, F, rows, cut):
     mask = np.zeros(len(T), bool)
     mask[rows] = True
     o, n = cut[0], cut[1]
-    u = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
-    u /= np.linalg.norm(u)
-    frame = np.stack([n, u, np.cross(n, u)], axis=1)   # (searched with n along x: the
-                                                       # boxes of pieces in different
-    def search(S):                                     # slabs then lie apart)
+    axes = frame(n)[[2, 0, 1]].T          # (searched with n along x: the boxes of pieces
+                                          # in different slabs then lie apart)
+    def search(S):
         X, G, source = _pieces_found(V, T, W, F, S, cut)
-        X = (X - o) @ frame
+        X = (X - o) @ axes
         among = (source >= 0) & mask.take(np.maximum(source, 0))
         pairs = intersect._candidates(X, G, among)
         pairs = pairs[intersect.crossing(X, G, pairs)] if len(pairs) else pairs
@@ -423,7 +420,7 @@ def _edit_crossings(V, T, W, F, rows, cut):
     a, b = search(np.asarray(rows, np.int64))
     if not len(a):
         return 0
-    X = (V - o) @ frame
+    X = (V - o) @ axes
     pairs = intersect._candidates(X, T, mask)
     before = pairs[intersect.crossing(X, T, pairs)] if len(pairs) else pairs
     if not len(before):
