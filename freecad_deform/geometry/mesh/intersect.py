@@ -28,21 +28,13 @@ def _sphere_candidates(X, T, moved):
     movers = np.nonzero(moved)[0]
     if len(movers) == 0:
         return np.zeros((0, 2), np.int64)
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    normal = _unit_normals(tri)
     offset = np.einsum("ij,ij->i", normal, centre)
-    low, high = tri.min(axis=1), tri.max(axis=1)
+    shape = (tri, tri.min(axis=1), tri.max(axis=1), normal, offset)
 
-    def apart(i, j):                      # j's sphere wholly on one side of i's plane
+    def sphere_apart(i, j):               # j's sphere wholly on one side of i's plane
         d = np.abs(np.einsum("ij,ij->i", centre[j], normal[i]) - offset[i])
-        slack = 2e-6 * (radius[i] + radius[j])
-        return (d > radius[j] + slack) | ((low[i] > high[j] + slack[:, None])
-                                           | (low[j] > high[i] + slack[:, None])).any(axis=1)
-
-    def side(i, j):                       # j's corners all on one side of i's plane
-        d = np.einsum("ikl,il->ik", tri[j], normal[i]) - offset[i][:, None]
-        slack = 2e-6 * (radius[i] + radius[j])
-        return (d.min(axis=1) > slack) | (d.max(axis=1) < -slack)
+        return d > radius[j] + 2e-6 * (radius[i] + radius[j])
 
     level = np.floor(np.log2(np.maximum(radius, 1e-300) / max(radius.max(), 1e-300)))
     level = np.maximum(level, -40)
@@ -65,14 +57,9 @@ def _sphere_candidates(X, T, moved):
             i, j = i[keep], j[keep]
             keep = i != j
             i, j = i[keep], j[keep]
-            keep = ~apart(i, j)
+            keep = ~(sphere_apart(i, j) | sphere_apart(j, i))
             i, j = i[keep], j[keep]
-            keep = ~apart(j, i)
-            i, j = i[keep], j[keep]
-            keep = ~side(i, j)
-            i, j = i[keep], j[keep]
-            keep = ~side(j, i)
-            i, j = i[keep], j[keep]
+            i, j = _may_meet(i, j, 2e-6 * (radius.take(i) + radius.take(j)), *shape)
             pairs.append(np.minimum(i, j) * len(T) + np.maximum(i, j))
     key = np.unique(np.concatenate(pairs))
     p = np.column_stack([key // len(T), key % len(T)])
@@ -111,27 +98,13 @@ def _candidates(X, T, moved):
     if count > max(SWEEP_PAIRS * len(T), 4 * 10 ** 6):
         return _sphere_candidates(X, T, moved)
     size = np.linalg.norm(high - low, axis=1)
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
-    offset = np.einsum("ij,ij->i", tri[:, 0], normal)
-
-    def side(one, other):                 # other's corners all on one side of one's plane
-        d = np.einsum("ikl,il->ik", tri.take(other, axis=0), normal.take(one, axis=0))
-        d -= offset.take(one)[:, None]
-        sl = 1e-6 * (size.take(one) + size.take(other))
-        return (d.min(axis=1) > sl) | (d.max(axis=1) < -sl)
+    normal = _unit_normals(tri)
+    shape = (tri, low, high, normal, np.einsum("ij,ij->i", tri[:, 0], normal))
 
     def kept(i, j):                       # the pair keys that may cross or touch
         keep = i != j
         i, j = i[keep], j[keep]
-        slack = (1e-6 * (size.take(i) + size.take(j)))[:, None]
-        keep = ~((low.take(i, axis=0) > high.take(j, axis=0) + slack)
-                 | (low.take(j, axis=0) > high.take(i, axis=0) + slack)).any(axis=1)
-        i, j = i[keep], j[keep]
-        keep = ~side(i, j)
-        i, j = i[keep], j[keep]
-        keep = ~side(j, i)
-        i, j = i[keep], j[keep]
+        i, j = _may_meet(i, j, 1e-6 * (size.take(i) + size.take(j)), *shape)
         return np.minimum(i, j) * len(T) + np.maximum(i, j)
 
     keys = []
@@ -150,6 +123,29 @@ def _candidates(X, T, moved):
     p = np.column_stack([key // len(T), key % len(T)])
     shared = (T[p[:, 0], :, None] == T[p[:, 1], None, :]).any(axis=(1, 2))
     return p[~shared]
+
+
+def _unit_normals(tri):
+    """Unit normals of triangles (k, 3, 3) (zero for a triangle of no area)."""
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    return normal
+
+
+def _may_meet(i, j, slack, tri, low, high, normal, offset):
+    """The pairs (i, j) of triangles that may cross or touch: their boxes (low, high)
+    meet, and neither lies wholly on one side of the other's plane (normal . x = offset),
+    each within its pair's `slack`."""
+    keep = ~((low.take(i, axis=0) > high.take(j, axis=0) + slack[:, None])
+             | (low.take(j, axis=0) > high.take(i, axis=0) + slack[:, None])).any(axis=1)
+    i, j, slack = i[keep], j[keep], slack[keep]
+    for turn in range(2):                 # j's corners all on one side of i's plane, then
+        one, other = (i, j) if turn == 0 else (j, i)          # i's on one side of j's
+        d = np.einsum("ikl,il->ik", tri.take(other, axis=0), normal.take(one, axis=0))
+        d -= offset.take(one)[:, None]
+        keep = ~((d.min(axis=1) > slack) | (d.max(axis=1) < -slack))
+        i, j, slack = i[keep], j[keep], slack[keep]
+    return i, j
 
 
 def _spans(first, last):
