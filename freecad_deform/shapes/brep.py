@@ -255,7 +255,12 @@ def extent(shape, origin, normal):
 def plane_face(shape, origin, normal):
     """A square planar face at the plane, larger than the shape."""
     box = bound_box(shape)
-    size = box.DiagonalLength + np.linalg.norm(np.array(tuple(box.Center)) - origin) + 1.0
+    return square_face(origin, normal, box.DiagonalLength + np.linalg.norm(
+        np.array(tuple(box.Center)) - origin) + 1.0)
+
+
+def square_face(origin, normal, size):
+    """The planar face of the square about `origin` across `normal`, 2 `size` wide."""
     u, v, _ = frame(normal)
     corners = [origin + size * (a * u + b * v) for a, b in ((1, 1), (-1, 1), (-1, -1), (1, -1), (1, 1))]
     return Part.Face(Part.makePolygon([vector(c) for c in corners]))

@@ -27,7 +27,6 @@ import numpy as np
 import Part
 
 from ..geometry.sweep import continuity
-from ..geometry.sweep.planes import frame
 from ..geometry.nurbs import surface_fit
 from ..geometry.nurbs.direct_push import knots_and_mults
 from ..geometry.errors import DeformError
@@ -208,14 +207,9 @@ def _within_period(face, smap, pts):
     turn = abs(smap.angle_of(float(s.max())) - smap.angle_of(float(s.min())))
     if u1 - u0 + turn <= period * (1 - 1e-9) or turn < 1e-12:
         return [face]
-    import FreeCAD as App
     centre, k = smap.twist_axis
     size = 2.0 * (face.BoundBox.DiagonalLength + np.linalg.norm(
         np.array(tuple(face.BoundBox.Center)) - centre)) + 1.0
-
-    def quad(corners):
-        return Part.Face(Part.makePolygon([App.Vector(*c) for c in corners + corners[:1]]))
-
     tools = []
     cuts = max(2, int(np.ceil((u1 - u0) / (0.5 * period))))
     for u in u0 + (u1 - u0) * np.arange(1, cuts) / cuts:   # half-planes at the meridians
@@ -223,14 +217,13 @@ def _within_period(face, smap, pts):
         r = unit(r - (r @ k) * k)
         if not r.any():                       # (the face's middle on the axis)
             return [face]
-        tools.append(quad([centre - size * k, centre + size * k, centre + size * (k + r),
-                           centre + size * (r - k)]))
+        corners = [centre - size * k, centre + size * k, centre + size * (k + r),
+                   centre + size * (r - k), centre - size * k]
+        tools.append(Part.Face(Part.makePolygon([vector(c) for c in corners])))
     bands = int(np.ceil(turn / (0.5 * np.pi)))
-    a, b, _ = frame(smap.normal)
     for level in s.min() + (s.max() - s.min()) * np.arange(1, bands) / bands:
-        o = smap.origin + level * smap.gap * smap.normal
-        tools.append(quad([o + size * (a + b), o + size * (b - a), o - size * (a + b),
-                           o + size * (a - b)]))
+        tools.append(brep.square_face(smap.origin + level * smap.gap * smap.normal,
+                                      smap.normal, size))
     try:
         _, parts = face.generalFuse(tools)
     except Part.OCCError:
