@@ -90,16 +90,25 @@ TILTED = ([(0.0233, 0.1910), (0.0999, 0.1677), (0.1252, 0.2657), (0.0485, 0.2880
           (-0.37, 0.0, 0.37))
 
 
-class PrismDocument:
-    """A document holding the prism over TILTED as the Base mesh."""
+class MeshDocument:
+    """A document per test holding an empty Mesh::Feature, self.base, named `name`."""
+    name = "Base"
 
     def setup_method(self):
         self.doc = fc.new_document(type(self).__name__)
-        self.base = self.doc.addObject("Mesh::Feature", "Prism")
-        self.base.Mesh = prism_mesh(*TILTED)
+        self.base = self.doc.addObject("Mesh::Feature", self.name)
 
     def teardown_method(self):
         App.closeDocument(self.doc.Name)
+
+
+class PrismDocument(MeshDocument):
+    """A document holding the prism over TILTED as the Base mesh."""
+    name = "Prism"
+
+    def setup_method(self):
+        super().setup_method()
+        self.base.Mesh = prism_mesh(*TILTED)
 
 
 def assert_refused_or_clean(obj, prop):

@@ -21,7 +21,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from .features import fc
+from .features import fc  # noqa: F401  (FreeCAD on sys.path)
 
 import FreeCAD as App  # noqa: E402
 import Mesh  # noqa: E402
@@ -30,8 +30,8 @@ import freecad_deform as fd  # noqa: E402
 from freecad_deform.geometry.mesh import intersect  # noqa: E402
 
 from .oracles.mesh import arrays  # noqa: E402
-from .test_unseen_mesh_fixes19 import (TILTED, assert_refused_or_clean,  # noqa: E402
-                                        crossing_pairs, prism_mesh)
+from .test_unseen_mesh_fixes19 import (TILTED, MeshDocument,  # noqa: E402
+                                        assert_refused_or_clean, crossing_pairs, prism_mesh)
 
 V = App.Vector
 
@@ -67,16 +67,7 @@ def pieces(X, T):
     return label[T[:, 0]]
 
 
-class BaseDocument:
-    def setup_method(self):
-        self.doc = fc.new_document(type(self).__name__)
-        self.base = self.doc.addObject("Mesh::Feature", "Base")
-
-    def teardown_method(self):
-        App.closeDocument(self.doc.Name)
-
-
-class TestCrossingAwayFromTheStray(BaseDocument):
+class TestCrossingAwayFromTheStray(MeshDocument):
     """A coarse box 3 from the y axis (facets from y = -0.5 to 1.5, none between) twisted
     90 deg about it between y = 0 and 1, Samples 16: its facets' bound is 5.4e-3 of the
     diagonal, so the result is searched; it has no crossing of its own. Beside the axis
@@ -120,7 +111,7 @@ class TestCrossingAwayFromTheStray(BaseDocument):
             f"of the small boxes")
 
 
-class TestNewCrossingsBesideABaseCrossing(BaseDocument):
+class TestNewCrossingsBesideABaseCrossing(MeshDocument):
     """test_unseen_mesh_fixes19's tilted prism twisted 30 deg about a z axis 4200 away
     between z = 0.186 and 0.220 crosses itself at Samples 16 (refused there naming
     Samples). With two small boxes passing through each other inside the twisted slab
@@ -163,7 +154,7 @@ NOTCHED = ([(-20, -20, 20), (-20, -20, -20), (-20, 20, 20), (-20, 20, -20), (0, 
             (7, 5, 4), (13, 4, 9), (4, 13, 7), (9, 5, 10), (5, 9, 4)])
 
 
-class TestNeedleAtACrack(BaseDocument):
+class TestNeedleAtACrack(MeshDocument):
     """The notched cube twisted 5 deg about its diagonal between 60 % of the box and a
     tenth of its length beyond, Samples 16: the largest bound is 1.5e-3 of the diagonal,
     under the 2e-3 that starts the search, and stop 19 left it Up-to-date with 9 crossing
