@@ -79,3 +79,16 @@ def test_a_torus_twisted_about_its_axis_slices_and_cuts_whole():
         assert wires[1].Length == pytest.approx(2 * math.pi * (20.0 + d), rel=1e-7)
     half = result.common(Part.makeBox(80, 80, 20, V(-40, -40, 0.0)))
     assert half.Volume == pytest.approx(math.pi * 25.0 * 2 * math.pi * 20.0 / 2, rel=1e-6)
+
+
+def test_a_thousand_turns_are_refused_not_cut_without_end():
+    """Past 16 turns across a face (MOST_BANDS) it is no longer cut into bands but fitted,
+    and a fit cannot follow 1000 turns: refused naming Tolerance at once (cut into bands,
+    it took 86 s and 8004 faces), the Base kept."""
+    from freecad_deform.geometry.errors import DeformError
+    sphere = Part.makeSphere(R)
+    with pytest.raises(DeformError) as refused:
+        twisted(sphere, -8.0, 8.0, "Linear", 360.0 * 1000)
+    assert refused.value.prop == "Tolerance"
+    assert sphere.isValid() and sphere.Volume == pytest.approx(4 / 3 * math.pi * R ** 3,
+                                                               rel=1e-12)
