@@ -286,7 +286,8 @@ def follow_map(V, T, o, n, gap, samples, angle, axis_point, axis_direction, slop
     h = gap / samples
     k = np.asarray(axis_direction, float).reshape(3)
     k = k / np.linalg.norm(k)
-    c1, A = _rates(angle, gap, slope, curvature, bend)
+    A = _rates(angle, gap, slope, curvature, bend)[1]
+
     def deviation(V, T):
         return slab_deviation(V, T, o, n, gap, samples, angle, axis_point, axis_direction,
                               slope, curvature, bend, tol)
